@@ -1,0 +1,20 @@
+# Every third-party dependency of jaderender, found once, from Debian 12 packages.
+# All are found now, including those only later parts of the pipeline use, so the
+# shape of the build is settled. Order matters: OpenVDB's Find module folder also
+# holds FindTBB/FindOpenEXR modules, so the CONFIG packages come first.
+
+find_package(TBB CONFIG REQUIRED)
+find_package(Imath CONFIG REQUIRED)
+find_package(OpenEXR CONFIG REQUIRED)
+find_package(OpenImageIO CONFIG REQUIRED)
+find_package(embree 3 CONFIG REQUIRED)
+find_package(glm CONFIG REQUIRED)
+find_package(TinyGLTF CONFIG REQUIRED)
+find_package(tinyobjloader CONFIG REQUIRED)
+find_package(CLI11 CONFIG REQUIRED)
+find_package(nlohmann_json CONFIG REQUIRED)
+find_package(Catch2 2 CONFIG REQUIRED)
+
+# OpenVDB ships only a Find module, in its own folder.
+list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
+find_package(OpenVDB REQUIRED)

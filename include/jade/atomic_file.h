@@ -1,0 +1,36 @@
+#pragma once
+// Outputs are written whole or not at all: a writer fills a temporary file
+// beside the destination, and only a successful commit() renames it into
+// place (rename is atomic within one file system). A writer that is
+// destroyed without commit() — an exception, a crash path — removes its
+// temporary file, so no half-written output is ever left behind.
+
+#include <string>
+
+namespace jade {
+
+class AtomicFile {
+public:
+    explicit AtomicFile(std::string destination);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    // Where the writer should put the bytes. Keeps the destination's
+    // extension, since some writers pick the format from it.
+    const std::string& temp_path() const { return temp_; }
+    const std::string& destination() const { return destination_; }
+
+    // Moves the finished temporary file onto the destination.
+    void commit();
+
+private:
+    std::string destination_;
+    std::string temp_;
+    bool committed_ = false;
+};
+
+// Size of a file in bytes (0 when it does not exist).
+unsigned long long file_size(const std::string& path);
+
+}  // namespace jade

@@ -1,0 +1,20 @@
+#pragma once
+// Errors that reach the user. Every failure the user can cause (a missing or
+// corrupt file, a nonsense parameter) is thrown as jade::Error with a message
+// that names the file or the parameter and the problem, in one line. The
+// command-line front end prints it and exits with code 2.
+
+#include <stdexcept>
+#include <string>
+
+namespace jade {
+
+class Error : public std::runtime_error {
+public:
+    explicit Error(const std::string& message);
+};
+
+// Message for a problem with a named file: "<path>: <problem>".
+[[noreturn]] void fail_file(const std::string& path, const std::string& problem);
+
+}  // namespace jade

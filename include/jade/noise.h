@@ -1,0 +1,73 @@
+#pragma once
+// Material distribution as noise (paper §4.1, Table 1): 3D simplex noise
+// (Gustavson 2005, "Simplex noise demystified") summed as fractal Brownian
+// motion over a cube of side s voxels.
+//
+//   Noise(x) = sum_{i=0}^{n-1} SimplexNoise(x * Fr_i) * Amp_i
+//   Fr_0 = 1/s, Fr_{i+1} = 2 Fr_i,  Amp_0 = k, Amp_{i+1} = k Amp_i,  n = log2(s)
+//
+// x is in voxel units, sampled at voxel centres (i + 1/2). Everything is a
+// pure function of (parameters, position): a slice, a voxel or the whole cube
+// comes out identical whatever order or thread computes it.
+
+#include <cstdint>
+#include <vector>
+
+namespace jade {
+
+struct NoiseParams {
+    int resolution = 256;  // s, voxels along each side
+    int octaves = 0;       // n; 0 = the paper's floor(log2(s))
+    double k = 0.5;        // amplitude ratio, 0 < k < 1
+    std::uint32_t seed = 1;
+
+    // The octave count actually used (resolves octaves == 0).
+    int octave_count() const;
+    // Throws jade::Error naming the parameter when one is out of range.
+    void validate() const;
+};
+
+// The gradient lattice of one seed: a permutation of 0..255, doubled so
+// indices need no wrap. Built once and shared read-only by every thread.
+class SimplexNoise {
+public:
+    explicit SimplexNoise(std::uint32_t seed);
+    // Simplex noise at p; in [-1, 1] (the scale is the analytic bound of the
+    // four-corner sum, not an empirical fit, so the bound is guaranteed).
+    double operator()(double x, double y, double z) const;
+
+private:
+    std::uint8_t perm_[512];
+};
+
+// The fBm of Table 1 for one seed.
+class Fbm {
+public:
+    explicit Fbm(const NoiseParams& params);
+    // Sum over octaves at voxel-space position p (voxel centres are i + 1/2).
+    double operator()(double x, double y, double z) const;
+    // Frequency (cycles per voxel) and amplitude of octave i.
+    double frequency(int i) const;
+    double amplitude(int i) const;
+    int octaves() const { return octaves_; }
+    // Sum of the amplitudes: |Noise| never exceeds it.
+    double bound() const;
+
+private:
+    SimplexNoise simplex_;
+    int resolution_;
+    int octaves_;
+    double k_;
+    // Each octave is shifted by its own seed-derived offset. Fr_i = 2^i / s puts
+    // every octave's lattice points on the same voxel positions (the cube's
+    // corner is a zero of every octave); the shifts decorrelate them.
+    std::vector<double> offset_;
+};
+
+// Noise values of slice z = k (row-major, x fastest), s*s values.
+void fbm_slice(const Fbm& fbm, int resolution, int k, float* out);
+
+// The whole cube, x fastest then y then z; s^3 values. Parallel (TBB).
+std::vector<float> fbm_volume(const NoiseParams& params);
+
+}  // namespace jade
