@@ -1,0 +1,317 @@
+#include "jade/mesh.h"
+
+#include "jade/error.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <tiny_gltf.h>
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <unordered_map>
+
+namespace jade {
+
+void Bounds3::extend(const glm::vec3& p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+}
+
+Bounds3 TriangleMesh::bounds() const {
+    Bounds3 b;
+    for (const auto& p : positions) b.extend(p);
+    return b;
+}
+
+glm::vec3 TriangleMesh::face_normal(std::size_t t) const {
+    const auto& tri = triangles[t];
+    const glm::vec3 p0 = positions[tri[0]], p1 = positions[tri[1]], p2 = positions[tri[2]];
+    return glm::cross(p1 - p0, p2 - p0);
+}
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+TriangleMesh load_obj(const std::string& path) {
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = "";  // materials are not ours to read
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path, config))
+        fail_file(path, "cannot read as OBJ (" + reader.Error() + ")");
+    const auto& attrib = reader.GetAttrib();
+    TriangleMesh mesh;
+    // Normals are used only when every face corner has one.
+    bool all_normals = !attrib.normals.empty();
+    for (const auto& shape : reader.GetShapes())
+        for (const auto& idx : shape.mesh.indices) all_normals = all_normals && idx.normal_index >= 0;
+    // One vertex per distinct (position, normal) pair.
+    std::map<std::pair<int, int>, std::uint32_t> vertex_of;
+    for (const auto& shape : reader.GetShapes()) {
+        const auto& idx = shape.mesh.indices;
+        for (std::size_t f = 0; f + 2 < idx.size(); f += 3) {
+            std::array<std::uint32_t, 3> tri{};
+            for (int k = 0; k < 3; ++k) {
+                const int vi = idx[f + k].vertex_index, ni = all_normals ? idx[f + k].normal_index : -1;
+                if (vi < 0 || std::size_t(3 * vi + 2) >= attrib.vertices.size())
+                    fail_file(path, "a face refers to a vertex that does not exist");
+                auto [it, fresh] = vertex_of.try_emplace({vi, ni}, std::uint32_t(mesh.positions.size()));
+                if (fresh) {
+                    mesh.positions.emplace_back(attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
+                                                attrib.vertices[3 * vi + 2]);
+                    if (all_normals)
+                        mesh.normals.emplace_back(attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
+                                                  attrib.normals[3 * ni + 2]);
+                }
+                tri[k] = it->second;
+            }
+            mesh.triangles.push_back(tri);
+        }
+    }
+    mesh.file_normals = all_normals;
+    return mesh;
+}
+
+glm::mat4 node_matrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        glm::dmat4 m;
+        std::memcpy(glm::value_ptr(m), node.matrix.data(), 16 * sizeof(double));
+        return glm::mat4(m);
+    }
+    glm::dmat4 m(1.0);
+    if (node.translation.size() == 3)
+        m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+    if (node.rotation.size() == 4)  // glTF stores x, y, z, w
+        m = m * glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1],
+                                          node.rotation[2]));
+    if (node.scale.size() == 3)
+        m = glm::scale(m, glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+    return glm::mat4(m);
+}
+
+// Reads element i of a float vec3 accessor, or an index of any integer width.
+struct AccessorView {
+    const unsigned char* data = nullptr;
+    std::size_t stride = 0, count = 0;
+    int component = 0;
+};
+
+AccessorView view_of(const tinygltf::Model& model, int accessor_index, const std::string& path) {
+    if (accessor_index < 0 || std::size_t(accessor_index) >= model.accessors.size())
+        fail_file(path, "a primitive refers to a missing accessor");
+    const auto& acc = model.accessors[accessor_index];
+    if (acc.bufferView < 0) fail_file(path, "sparse or empty accessors are not supported");
+    const auto& bv = model.bufferViews[acc.bufferView];
+    const auto& buf = model.buffers[bv.buffer];
+    AccessorView v;
+    v.component = acc.componentType;
+    v.count = acc.count;
+    const std::size_t elem = std::size_t(tinygltf::GetComponentSizeInBytes(acc.componentType)) *
+                             std::size_t(tinygltf::GetNumComponentsInType(acc.type));
+    v.stride = bv.byteStride ? bv.byteStride : elem;
+    const std::size_t start = bv.byteOffset + acc.byteOffset;
+    if (acc.count > 0 && start + v.stride * (acc.count - 1) + elem > buf.data.size())
+        fail_file(path, "an accessor reaches past the end of its buffer");
+    v.data = buf.data.data() + start;
+    return v;
+}
+
+std::uint32_t index_at(const AccessorView& v, std::size_t i) {
+    const unsigned char* p = v.data + i * v.stride;
+    switch (v.component) {
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t x; std::memcpy(&x, p, 2); return x; }
+        default: { std::uint32_t x; std::memcpy(&x, p, 4); return x; }
+    }
+}
+
+glm::vec3 vec3_at(const AccessorView& v, std::size_t i) {
+    float f[3];
+    std::memcpy(f, v.data + i * v.stride, sizeof f);
+    return {f[0], f[1], f[2]};
+}
+
+TriangleMesh load_gltf(const std::string& path) {
+    tinygltf::Model model;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) fail_file(path, "cannot read as glTF (" + err + ")");
+
+    TriangleMesh mesh;
+    bool all_normals = true;
+    std::vector<glm::vec3> normals;
+    auto add_node = [&](auto&& self, int node_index, const glm::mat4& parent) -> void {
+        const auto& node = model.nodes[node_index];
+        const glm::mat4 world = parent * node_matrix(node);
+        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+        if (node.mesh >= 0)
+            for (const auto& prim : model.meshes[node.mesh].primitives) {
+                if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) continue;
+                const auto pos_it = prim.attributes.find("POSITION");
+                if (pos_it == prim.attributes.end()) continue;
+                const AccessorView pos = view_of(model, pos_it->second, path);
+                if (model.accessors[pos_it->second].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                    fail_file(path, "POSITION must be float");
+                const auto nrm_it = prim.attributes.find("NORMAL");
+                const bool has_n = nrm_it != prim.attributes.end();
+                all_normals = all_normals && has_n;
+                const std::uint32_t base = std::uint32_t(mesh.positions.size());
+                for (std::size_t i = 0; i < pos.count; ++i)
+                    mesh.positions.push_back(glm::vec3(world * glm::vec4(vec3_at(pos, i), 1.f)));
+                if (has_n) {
+                    const AccessorView n = view_of(model, nrm_it->second, path);
+                    for (std::size_t i = 0; i < n.count; ++i)
+                        normals.push_back(glm::normalize(normal_matrix * vec3_at(n, i)));
+                }
+                std::vector<std::uint32_t> idx;
+                if (prim.indices >= 0) {
+                    const AccessorView iv = view_of(model, prim.indices, path);
+                    for (std::size_t i = 0; i < iv.count; ++i) idx.push_back(index_at(iv, i));
+                } else {
+                    for (std::size_t i = 0; i < pos.count; ++i) idx.push_back(std::uint32_t(i));
+                }
+                // A mirroring transform flips the winding; keep triangles outward.
+                const bool flip = glm::determinant(glm::mat3(world)) < 0.f;
+                for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+                    for (int k = 0; k < 3; ++k)
+                        if (idx[i + k] >= pos.count) fail_file(path, "an index points past the vertices");
+                    mesh.triangles.push_back(flip ? std::array<std::uint32_t, 3>{base + idx[i], base + idx[i + 2], base + idx[i + 1]}
+                                                  : std::array<std::uint32_t, 3>{base + idx[i], base + idx[i + 1], base + idx[i + 2]});
+                }
+            }
+        for (int child : node.children) self(self, child, world);
+    };
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (!model.scenes.empty())
+        for (int root : model.scenes[std::size_t(scene)].nodes) add_node(add_node, root, glm::mat4(1.f));
+    else
+        for (std::size_t i = 0; i < model.nodes.size(); ++i) add_node(add_node, int(i), glm::mat4(1.f));
+    if (all_normals && normals.size() == mesh.positions.size()) {
+        mesh.normals = std::move(normals);
+        mesh.file_normals = true;
+    }
+    return mesh;
+}
+
+// Area-weighted vertex normals over vertices welded by position, so a file
+// that splits vertices along UV seams still gets smooth normals across them.
+void compute_normals(TriangleMesh& mesh) {
+    std::unordered_map<std::uint64_t, std::uint32_t> weld;
+    std::vector<std::uint32_t> group(mesh.positions.size());
+    auto key = [](const glm::vec3& p) {
+        std::uint32_t b[3];
+        std::memcpy(b, &p, sizeof b);
+        return (std::uint64_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^
+               (std::uint64_t(b[2]) * 0x165667B19E3779F9ull);
+    };
+    std::vector<glm::vec3> representative;
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        auto [it, fresh] = weld.try_emplace(key(mesh.positions[v]), std::uint32_t(representative.size()));
+        // On a (vanishingly rare) hash collision of distinct positions, keep them apart.
+        if (!fresh && representative[it->second] != mesh.positions[v]) {
+            group[v] = std::uint32_t(representative.size());
+            representative.push_back(mesh.positions[v]);
+            continue;
+        }
+        if (fresh) representative.push_back(mesh.positions[v]);
+        group[v] = it->second;
+    }
+    std::vector<glm::vec3> sum(representative.size(), glm::vec3(0.f));
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const glm::vec3 n = mesh.face_normal(t);  // length = twice the area
+        for (std::uint32_t v : mesh.triangles[t]) sum[group[v]] += n;
+    }
+    mesh.normals.resize(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const glm::vec3 n = sum[group[v]];
+        const float len = glm::length(n);
+        mesh.normals[v] = len > 0.f ? n / len : glm::vec3(0.f, 0.f, 1.f);
+    }
+}
+
+}  // namespace
+
+TriangleMesh load_mesh(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    const std::string ext = lower_extension(path);
+    TriangleMesh mesh;
+    if (ext == ".obj")
+        mesh = load_obj(path);
+    else if (ext == ".gltf" || ext == ".glb")
+        mesh = load_gltf(path);
+    else
+        fail_file(path, "unknown mesh format '" + ext + "' (use .obj, .gltf or .glb)");
+    mesh.path = path;
+    validate_mesh(mesh);
+    if (mesh.file_normals)
+        for (auto& n : mesh.normals) {
+            const float len = glm::length(n);
+            n = len > 0.f && std::isfinite(len) ? n / len : glm::vec3(0.f);
+        }
+    if (!mesh.file_normals) compute_normals(mesh);
+    return mesh;
+}
+
+void validate_mesh(const TriangleMesh& mesh) {
+    if (mesh.triangles.empty()) fail_file(mesh.path, "the mesh has no triangle");
+    for (const auto& p : mesh.positions)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            fail_file(mesh.path, "the mesh has a NaN or infinite vertex coordinate");
+    const glm::vec3 e = mesh.bounds().extent();
+    if (std::max({e.x, e.y, e.z}) <= 0.f) fail_file(mesh.path, "the mesh has zero size");
+}
+
+MeshTopology mesh_topology(const TriangleMesh& mesh) {
+    // Weld by exact position.
+    std::map<std::array<float, 3>, std::uint32_t> id_of;
+    std::vector<std::uint32_t> id(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+        const auto& p = mesh.positions[v];
+        id[v] = id_of.try_emplace({p.x, p.y, p.z}, std::uint32_t(id_of.size())).first->second;
+    }
+    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    MeshTopology topo;
+    for (const auto& tri : mesh.triangles) {
+        const std::uint32_t a = id[tri[0]], b = id[tri[1]], c = id[tri[2]];
+        if (a == b || b == c || a == c) {
+            ++topo.degenerate_triangles;
+            continue;
+        }
+        for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+            ++uses[(std::uint64_t(std::min(u, v)) << 32) | std::max(u, v)];
+    }
+    topo.edges = uses.size();
+    for (const auto& [edge, n] : uses) {
+        topo.boundary_edges += n == 1;
+        topo.nonmanifold_edges += n > 2;
+    }
+    return topo;
+}
+
+Cube bounding_cube(const TriangleMesh& mesh) {
+    const Bounds3 b = mesh.bounds();
+    const glm::vec3 c = b.centre(), e = b.extent();
+    const double side = std::max({e.x, e.y, e.z});
+    Cube cube;
+    cube.side = side;
+    for (int k = 0; k < 3; ++k) cube.min[k] = double(c[k]) - 0.5 * side;
+    return cube;
+}
+
+}  // namespace jade

@@ -1,0 +1,65 @@
+// Pinhole camera: the horizontal field of view and the film convention of the
+// reference renders.
+
+#include "jade/camera.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+
+using namespace jade;
+
+TEST_CASE("film coordinates follow the reference convention, fov horizontal", "[camera]") {
+    CameraParams p;  // origin (0,0,4) looking at the origin, 40 degrees
+    p.width = 200;
+    p.height = 100;
+    const PinholeCamera cam(p);
+    const float t = std::tan(20.f * 3.14159265f / 180.f);
+    const glm::vec3 centre = cam.direction(0.5f, 0.5f);
+    CHECK(glm::length(centre - glm::vec3(0, 0, -1)) < 1e-6f);
+    // Right edge, middle row: 20 degrees to the right (+x).
+    const glm::vec3 right = cam.direction(1.f, 0.5f);
+    CHECK(std::atan2(right.x, -right.z) * 180.f / 3.14159265f == Approx(20.f));
+    // Top edge: half the horizontal tangent for a 2:1 image, toward +y.
+    const glm::vec3 top = cam.direction(0.5f, 0.f);
+    CHECK(top.y / -top.z == Approx(t * 0.5f));
+    // A corner of a square image: forward + tan20 * (right + up).
+    p.width = p.height = 64;
+    const glm::vec3 corner = PinholeCamera(p).direction(0.f, 0.f);
+    CHECK(glm::length(corner - glm::normalize(glm::vec3(-t, t, -1.f))) < 1e-6f);
+}
+
+TEST_CASE("framing puts the whole mesh in view from the upper front", "[camera]") {
+    Bounds3 b;
+    b.extend({-3, 0, -1});
+    b.extend({1, 5, 2});
+    const CameraParams p = frame_mesh(b, 320, 240);
+    CHECK(p.origin.y > p.target.y);  // above
+    CHECK(p.origin.z > p.target.z);  // in front (+z)
+    const PinholeCamera cam(p);
+    const glm::vec3 fwd = glm::normalize(p.target - p.origin);
+    const glm::vec3 right = glm::normalize(glm::cross(fwd, p.up));
+    const glm::vec3 up = glm::cross(right, fwd);
+    const float tx = std::tan(20.f * 3.14159265f / 180.f), ty = tx * 240.f / 320.f;
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 c((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
+                          (i & 4) ? b.max.z : b.min.z);
+        const glm::vec3 v = c - p.origin;
+        const float z = glm::dot(v, fwd);
+        CHECK(std::abs(glm::dot(v, right) / z) < tx);
+        CHECK(std::abs(glm::dot(v, up) / z) < ty);
+    }
+}
+
+TEST_CASE("impossible cameras are rejected", "[camera]") {
+    CameraParams p;
+    p.fov_degrees = 180.f;
+    CHECK_THROWS(p.validate());
+    p = CameraParams{};
+    p.up = glm::vec3(0, 0, 1);  // parallel to the view
+    CHECK_THROWS(p.validate());
+    p = CameraParams{};
+    p.target = p.origin;
+    CHECK_THROWS(p.validate());
+}
