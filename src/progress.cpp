@@ -21,7 +21,7 @@ void Progress::advance(std::size_t n) {
     std::unique_lock<std::mutex> lock(draw_mutex_, std::try_to_lock);
     if (!lock.owns_lock() || finished_ || now - last_draw_ < period) return;
     last_draw_ = now;
-    draw(done, false);
+    draw(done);
 }
 
 void Progress::finish() {
@@ -32,7 +32,7 @@ void Progress::finish() {
     std::fflush(stderr);
 }
 
-void Progress::draw(std::size_t done, bool /*final*/) {
+void Progress::draw(std::size_t done) {
     const double frac = std::min(1.0, double(done) / double(total_));
     const double secs = std::chrono::duration<double>(Clock::now() - start_).count();
     const double eta = frac > 0 ? secs * (1.0 - frac) / frac : 0.0;

@@ -26,7 +26,7 @@ public:
     void finish();
 
 private:
-    void draw(std::size_t done, bool final);
+    void draw(std::size_t done);
 
     std::string label_;
     std::size_t total_;
