@@ -8,12 +8,16 @@
 #include "jade/material_volume.h"
 #include "jade/photo.h"
 #include "jade/progress.h"
+#include "jade/render_job.h"
 #include "jade/report.h"
 #include "jade/vdb_io.h"
 
 #include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 namespace {
@@ -82,6 +86,139 @@ int run_volume(const VolumeOptions& o) {
     return 0;
 }
 
+// "x,y,z" (or one number for all three) as a CLI11 validator + converter.
+struct Vec3Flag {
+    std::string text;
+    bool given() const { return !text.empty(); }
+    glm::vec3 value(const char* flag) const {
+        jade::Spectrum v;
+        if (!jade::parse_colour(text, v))
+            throw jade::Error(std::string(flag) + " expects x,y,z (or one number), not '" + text + "'");
+        return v;
+    }
+};
+
+struct RenderFlags {
+    jade::RenderJob job;
+    std::string boundary = "split";
+    Vec3Flag sigma_s, sigma_a, ks, vdb_albedo, origin, target, up, light_dir;
+};
+
+void add_render_flags(CLI::App& cmd, RenderFlags& f) {
+    jade::RenderJob& j = f.job;
+    cmd.add_option("--mesh", j.mesh, "The object's surface (.obj, .gltf, .glb); closed, outward-facing")
+        ->required();
+    cmd.add_option("--volume", j.volume,
+                   "Medium: a jaderender .vdb (mapped onto the mesh's bounding cube) or a foreign "
+                   ".vdb with world-space grids sigma_s + sigma_a, or density [+ color]");
+    cmd.add_option("--sigma-s", f.sigma_s.text,
+                   "Homogeneous medium instead of --volume: scattering per world unit, r,g,b");
+    cmd.add_option("--sigma-a", f.sigma_a.text, "Homogeneous medium: absorption per world unit, r,g,b");
+    cmd.add_option("--ks", f.ks.text, "Override the jaderender volume's fitted k_s, r,g,b");
+    cmd.add_option("--vdb-density-scale", j.density.scale,
+                   "Foreign .vdb density grid: sigma_t = scale * density")
+        ->capture_default_str();
+    cmd.add_option("--vdb-albedo", f.vdb_albedo.text,
+                   "Foreign .vdb density grid without a color grid: albedo r,g,b (default 0.9)");
+    cmd.add_flag("--flat", j.flat_normals, "Shade the boundary with face normals");
+    cmd.add_flag("--allow-open", j.allow_open, "Render a mesh with many open edges anyway");
+    cmd.add_option("--boundary", f.boundary,
+                   "Interface: 'split' (paper: reflect with weight --specular), 'fresnel' (exact), "
+                   "'none' (index-matched)")
+        ->capture_default_str();
+    cmd.add_option("--ior", j.interface.ior, "Interior index of refraction")->capture_default_str();
+    cmd.add_option("--specular", j.interface.specular, "Reflection weight of the split boundary")
+        ->capture_default_str();
+    cmd.add_option("--g", j.g, "Henyey-Greenstein asymmetry (0 = isotropic)")->capture_default_str();
+    cmd.add_option("--camera-origin", f.origin.text,
+                   "Camera position x,y,z (default: framed from the mesh's upper front)");
+    cmd.add_option("--camera-target", f.target.text, "Point looked at (default: the mesh's centre)");
+    cmd.add_option("--camera-up", f.up.text, "Up vector (default 0,1,0)");
+    cmd.add_option("--fov", j.fov_degrees, "HORIZONTAL field of view, degrees")->capture_default_str();
+    cmd.add_option("--width", j.width, "Image width, pixels")->capture_default_str();
+    cmd.add_option("--height", j.height, "Image height, pixels")->capture_default_str();
+    cmd.add_option("--light-dir", f.light_dir.text,
+                   "Direction toward the directional light (default 0.35,0.8,0.5: upper front right)");
+    cmd.add_option("--light-irradiance", j.light_irradiance,
+                   "Its irradiance on a surface facing it (0 = off)")
+        ->capture_default_str();
+    cmd.add_option("--light-radius", j.light_radius_degrees,
+                   "Its angular radius, degrees (0 = a delta light, which reaches the inside of a "
+                   "dielectric object only with --boundary none)")
+        ->capture_default_str();
+    cmd.add_option("--env", j.environment,
+                   "Environment: constant radiance (v or r,g,b) or a lat-long .exr/.hdr image")
+        ->capture_default_str();
+    cmd.add_option("--env-scale", j.environment_scale, "Multiplies the environment")
+        ->capture_default_str();
+    cmd.add_option("--background", j.background,
+                   "Image seen behind the object by camera rays that miss (default: the environment)");
+    cmd.add_flag("--transparent", j.transparent,
+                 "Camera rays that miss see nothing; alpha = object coverage");
+    cmd.add_option("--spp", j.settings.spp, "Samples per pixel (stop)")->capture_default_str();
+    cmd.add_option("--time", j.settings.time_limit, "Time budget in seconds (stop; 0 = none)")
+        ->capture_default_str();
+    cmd.add_option("--target-error", j.settings.target_error,
+                   "Estimated relative error to stop at (0 = none)")
+        ->capture_default_str();
+    cmd.add_option("--seed", j.settings.seed, "Random seed")->capture_default_str();
+    cmd.add_option("--max-depth", j.settings.integrator.max_depth,
+                   "Most interactions per path; paths cut here are counted as bias")
+        ->capture_default_str();
+    cmd.add_option("--reference", j.reference, "Reference image: RMSE after every pass");
+    cmd.add_option("--out", j.out, "Output .exr (linear RGBA float)")->required();
+    cmd.add_option("--png", j.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
+    cmd.add_option("--convergence", j.convergence,
+                   "Error against time, CSV ('auto': convergence.csv beside --out; '' = none)")
+        ->capture_default_str();
+}
+
+int run_render(RenderFlags& f) {
+    jade::RenderJob& j = f.job;
+    j.interface.mode = jade::parse_boundary_mode(f.boundary);
+    if (f.sigma_s.given()) j.sigma_s = f.sigma_s.value("--sigma-s");
+    if (f.sigma_a.given()) j.sigma_a = f.sigma_a.value("--sigma-a");
+    if (f.ks.given()) {
+        const glm::vec3 k = f.ks.value("--ks");
+        j.ks = std::array<float, 3>{k.x, k.y, k.z};
+    }
+    if (f.vdb_albedo.given()) j.density.albedo = f.vdb_albedo.value("--vdb-albedo");
+    if (f.origin.given()) j.camera_origin = f.origin.value("--camera-origin");
+    if (f.target.given()) {
+        j.camera_target = f.target.value("--camera-target");
+        j.camera_target_given = true;
+    }
+    if (f.up.given()) j.camera_up = f.up.value("--camera-up");
+    if (f.light_dir.given()) j.light_direction = f.light_dir.value("--light-dir");
+
+    const jade::Stopwatch total;
+    jade::RenderJobResult r;
+    {
+        jade::Progress progress("render", std::size_t(j.width) * j.height * j.settings.spp);
+        r = jade::run_render_job(j, &progress);
+    }
+    for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());
+    const jade::RenderResult& rr = r.render;
+    const jade::PassRecord& last = rr.passes.back();
+    const double samples = double(j.width) * j.height * last.spp;
+    std::printf("render: %dx%d, %d spp in %.2f s (stopped by %s); estimated relative error %.4f",
+                j.width, j.height, last.spp, rr.seconds, rr.stopped_by.c_str(), last.estimated_error);
+    if (last.rmse >= 0) std::printf(", RMSE %.5f, relMSE %.3g vs reference", last.rmse, last.rel_mse);
+    std::printf("\n  medium: %s (%s)\n", r.medium_description.c_str(),
+                jade::format_megabytes(double(r.medium_bytes)).c_str());
+    std::printf("  %.3g M samples/s, %.3g M path vertices/s; collisions %.3g M real, %.3g M null\n",
+                samples / rr.seconds / 1e6, double(rr.counters.vertices()) / rr.seconds / 1e6,
+                double(rr.counters.real_collisions) / 1e6, double(rr.counters.null_collisions) / 1e6);
+    if (rr.counters.capped_paths > 0)
+        std::printf("  BIAS: %llu of %llu paths were cut at --max-depth %d\n",
+                    (unsigned long long)rr.counters.capped_paths,
+                    (unsigned long long)rr.counters.paths, j.settings.integrator.max_depth);
+    std::printf("  loading %.2f s, total %.2f s, peak memory %s\n", r.load_seconds, total.seconds(),
+                jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
+    for (const auto& file : r.written) std::printf("  wrote %s\n", file.c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,6 +235,16 @@ int main(int argc, char** argv) {
     volume_cmd->add_option("--out", vol.out, "Output .vdb file")->required();
     volume_cmd->add_option("--preview", vol.preview,
                            "Also write the middle slice of the matched noise as an image");
+
+    RenderFlags render_flags;
+    auto* render_cmd = app.add_subcommand(
+        "render", "Render a medium (a saved volume, a foreign .vdb or a homogeneous one) inside a "
+                  "mesh's dielectric boundary");
+    add_render_flags(*render_cmd, render_flags);
+
+    int threads = 0;
+    app.add_option("--threads", threads, "Worker threads (0 = all cores); results do not depend on it")
+        ->capture_default_str();
 
     jade::VolumeBenchOptions bench;
     auto* bench_cmd = app.add_subcommand(
@@ -125,8 +272,14 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    std::unique_ptr<tbb::global_control> thread_limit;
+    if (threads > 0)
+        thread_limit = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+
     try {
         if (*volume_cmd) return run_volume(vol);
+        if (*render_cmd) return run_render(render_flags);
         if (*bench_cmd) return jade::run_volume_benchmark(bench);
     } catch (const jade::Error& e) {
         std::fprintf(stderr, "jaderender: error: %s\n", e.what());

@@ -5,6 +5,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
+
 namespace jade {
 
 namespace OIIO = OIIO_NAMESPACE;
@@ -12,7 +14,7 @@ namespace OIIO = OIIO_NAMESPACE;
 namespace {
 template <typename T>
 void write_image(const std::string& path, int width, int height, int channels,
-                 const std::vector<T>& pixels, OIIO::TypeDesc type) {
+                 const std::vector<T>& pixels, OIIO::TypeDesc type, bool associated) {
     if (pixels.size() != std::size_t(width) * height * channels)
         throw Error("internal: image buffer size does not match its dimensions for " + path);
     AtomicFile file(path);
@@ -21,8 +23,9 @@ void write_image(const std::string& path, int width, int height, int channels,
     OIIO::ImageSpec spec(width, height, channels, type);
     if (channels == 4) {
         spec.alpha_channel = 3;
-        // Our pixels are straight (unassociated) colour beside their coverage.
-        spec.attribute("oiio:UnassociatedAlpha", 1);
+        // Straight colour beside its coverage must be marked, or OIIO would
+        // divide it by alpha once more when writing PNG.
+        if (!associated) spec.attribute("oiio:UnassociatedAlpha", 1);
     }
     if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
     if (!out->open(file.temp_path(), spec) || !out->write_image(type, pixels.data()) ||
@@ -34,12 +37,42 @@ void write_image(const std::string& path, int width, int height, int channels,
 
 void write_image_u8(const std::string& path, int width, int height, int channels,
                     const std::vector<std::uint8_t>& pixels) {
-    write_image(path, width, height, channels, pixels, OIIO::TypeDesc::UINT8);
+    write_image(path, width, height, channels, pixels, OIIO::TypeDesc::UINT8, false);
 }
 
 void write_image_f32(const std::string& path, int width, int height, int channels,
-                     const std::vector<float>& pixels) {
-    write_image(path, width, height, channels, pixels, OIIO::TypeDesc::FLOAT);
+                     const std::vector<float>& pixels, bool associated_alpha) {
+    write_image(path, width, height, channels, pixels, OIIO::TypeDesc::FLOAT, associated_alpha);
+}
+
+ImageF32 read_image_f32(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        const std::string why = OIIO::geterror();
+        fail_file(path, why.empty() ? "cannot open as an image" : "cannot read as an image: " + why);
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    ImageF32 img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    if (img.width < 1 || img.height < 1 || img.channels < 1) fail_file(path, "image has no pixels");
+    img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+        fail_file(path, "cannot decode: " + in->geterror());
+    const bool linear = spec.format.is_floating_point();
+    const std::string space = spec.get_string_attribute("oiio:ColorSpace");
+    if (!linear && space != "Linear" && space != "linear") {
+        // 8/16-bit images are display-encoded: back to linear radiance.
+        for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+            if (int(i % img.channels) == spec.alpha_channel) continue;
+            const float v = img.pixels[i];
+            img.pixels[i] = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+        }
+    }
+    for (float v : img.pixels)
+        if (!std::isfinite(v)) fail_file(path, "image holds NaN or infinite values");
+    return img;
 }
 
 }  // namespace jade

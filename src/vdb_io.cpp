@@ -3,11 +3,13 @@
 #include "jade/atomic_file.h"
 #include "jade/error.h"
 
+#include <glm/common.hpp>
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 namespace jade {
 
@@ -147,16 +149,13 @@ MaterialVolume read_material_vdb(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
     openvdb::MetaMap::Ptr meta;
-    openvdb::GridBase::Ptr base_s, base_a;
+    std::unique_ptr<openvdb::io::File> file;
     try {
-        openvdb::io::File file(path);
-        file.open(false);  // no delayed loading: we read everything once
-        meta = file.getMetadata();
-        if (!file.hasGrid("sigma_s") || !file.hasGrid("sigma_a"))
+        file = std::make_unique<openvdb::io::File>(path);
+        file->open(false);  // no memory mapping: mapped pages would count as our memory
+        meta = file->getMetadata();
+        if (!file->hasGrid("sigma_s") || !file->hasGrid("sigma_a"))
             fail_file(path, "no 'sigma_s' and 'sigma_a' grids");
-        base_s = file.readGrid("sigma_s");
-        base_a = file.readGrid("sigma_a");
-        file.close();
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
     }
@@ -190,23 +189,36 @@ MaterialVolume read_material_vdb(const std::string& path) {
         fail_file(path, std::string("metadata: ") + e.what());
     }
 
-    auto gs = openvdb::gridPtrCast<openvdb::Vec3fGrid>(base_s);
-    auto ga = openvdb::gridPtrCast<openvdb::Vec3fGrid>(base_a);
-    if (!gs || !ga) fail_file(path, "'sigma_s' and 'sigma_a' must be Vec3f grids");
-
     const int s = v.resolution;
     v.levels.assign(std::size_t(s) * s * s, Rgb8{0, 0, 0});
     const CoefficientTable table(v.optics, v.cube.side);
     const double to_paper = v.cube.side / v.optics.density_scale;
-    const auto origins = leaf_origins(s);
+    const double h = v.cube.side / s;
     std::atomic<bool> mismatch{false};
-    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t li) {
-        auto acc_s = gs->getConstAccessor();
-        auto acc_a = ga->getConstAccessor();
-        const openvdb::Coord o = origins[li];
-        for (int z = o.z(); z < std::min(o.z() + 8, s); ++z)
-            for (int y = o.y(); y < std::min(o.y() + 8, s); ++y)
-                for (int x = o.x(); x < std::min(o.x() + 8, s); ++x) {
+
+    // The grids are read a slab of z-slices at a time (OpenVDB skips the
+    // leaves outside a clipping box), so reading costs a slab's worth of
+    // float grids beside the 3-byte levels instead of two whole Vec3f grids.
+    constexpr int kSlab = 32;
+    for (int z0 = 0; z0 < s; z0 += kSlab) {
+        const int z1 = std::min(s, z0 + kSlab);
+        // World bounds of the slab's voxel centres; OpenVDB rounds them to these voxels.
+        const openvdb::BBoxd box(
+            openvdb::Vec3d(cmin[0] + 0.5 * h, cmin[1] + 0.5 * h, cmin[2] + (z0 + 0.5) * h),
+            openvdb::Vec3d(cmin[0] + (s - 0.5) * h, cmin[1] + (s - 0.5) * h, cmin[2] + (z1 - 0.5) * h));
+        openvdb::Vec3fGrid::Ptr gs, ga;
+        try {
+            gs = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file->readGrid("sigma_s", box));
+            ga = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file->readGrid("sigma_a", box));
+        } catch (const openvdb::Exception& e) {
+            fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+        }
+        if (!gs || !ga) fail_file(path, "'sigma_s' and 'sigma_a' must be Vec3f grids");
+        tbb::parallel_for(z0, z1, [&](int z) {
+            auto acc_s = gs->getConstAccessor();
+            auto acc_a = ga->getConstAccessor();
+            for (int y = 0; y < s; ++y)
+                for (int x = 0; x < s; ++x) {
                     const openvdb::Coord xyz(x, y, z);
                     const openvdb::Vec3f ss = acc_s.getValue(xyz), sa = acc_a.getValue(xyz);
                     Rgb8& lv = v.levels[v.index(x, y, z)];
@@ -233,11 +245,129 @@ MaterialVolume read_material_vdb(const std::string& path) {
                             mismatch = true;
                     }
                 }
-    });
+        });
+    }
+    file->close();
     if (mismatch)
         fail_file(path, "its sigma_s/sigma_a grids do not follow from its jade: metadata "
                         "(edited by another tool?)");
     return v;
+}
+
+bool is_material_vdb(const std::string& path) {
+    openvdb::initialize();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    try {
+        openvdb::io::File file(path);
+        file.open(true);
+        const auto meta = file.getMetadata();
+        file.close();
+        return bool(meta->getMetadata<openvdb::StringMetadata>("jade:format"));
+    } catch (const openvdb::Exception& e) {
+        fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    }
+    return false;
+}
+
+namespace {
+
+// A float or Vec3f grid, made dense as RGB over `box` (index space).
+std::vector<Spectrum> dense_rgb(const openvdb::GridBase::Ptr& base, const openvdb::CoordBBox& box,
+                                const std::string& path) {
+    const openvdb::Coord dim = box.dim();
+    std::vector<Spectrum> out(std::size_t(dim.x()) * dim.y() * dim.z(), Spectrum(0.f));
+    auto fill = [&](auto grid, auto to_rgb) {
+        tbb::parallel_for(0, dim.z(), [&](int k) {
+            auto acc = grid->getConstAccessor();
+            for (int j = 0; j < dim.y(); ++j)
+                for (int i = 0; i < dim.x(); ++i)
+                    out[(std::size_t(k) * dim.y() + j) * dim.x() + i] =
+                        to_rgb(acc.getValue(box.min() + openvdb::Coord(i, j, k)));
+        });
+    };
+    if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(base))
+        fill(f, [](float v) { return Spectrum(v); });
+    else if (auto v = openvdb::gridPtrCast<openvdb::Vec3fGrid>(base))
+        fill(v, [](const openvdb::Vec3f& c) { return Spectrum(c[0], c[1], c[2]); });
+    else
+        fail_file(path, "grid '" + base->getName() + "' must be a float or Vec3f grid, not " +
+                            base->valueType());
+    return out;
+}
+
+}  // namespace
+
+CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversion& conv) {
+    openvdb::initialize();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    openvdb::GridPtrVec grids;
+    try {
+        openvdb::io::File file(path);
+        file.open(false);
+        const bool coefficients = file.hasGrid("sigma_s") && file.hasGrid("sigma_a");
+        const std::vector<std::string> names =
+            coefficients ? std::vector<std::string>{"sigma_s", "sigma_a"}
+            : file.hasGrid("color") ? std::vector<std::string>{"density", "color"}
+                                    : std::vector<std::string>{"density"};
+        if (!file.hasGrid(names[0]))
+            fail_file(path, "has neither 'sigma_s' + 'sigma_a' grids nor a 'density' grid");
+        for (const auto& n : names) grids.push_back(file.readGrid(n));
+        file.close();
+    } catch (const openvdb::Exception& e) {
+        fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    }
+
+    // One axis-aligned placement for all grids.
+    const openvdb::math::Transform& xf = grids[0]->transform();
+    for (const auto& g : grids)
+        if (g->transform() != xf) fail_file(path, "its grids have different transforms");
+    const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0.0));
+    openvdb::Vec3d spacing;
+    for (int a = 0; a < 3; ++a) {
+        openvdb::Vec3d e(0.0);
+        e[a] = 1.0;
+        const openvdb::Vec3d step = xf.indexToWorld(e) - o;
+        for (int b = 0; b < 3; ++b)
+            if (b != a && std::abs(step[b]) > 1e-9 * step.length())
+                fail_file(path, "its grid transform is rotated or sheared; only axis-aligned "
+                                "grids are supported");
+        if (!(step[a] > 0.0) || !xf.isLinear())
+            fail_file(path, "its grid transform is not a positive scale per axis");
+        spacing[a] = step[a];
+    }
+    openvdb::CoordBBox box;
+    for (const auto& g : grids) box.expand(g->evalActiveVoxelBoundingBox());
+    if (box.empty()) fail_file(path, "its grids have no active voxel");
+    const openvdb::Coord dim = box.dim();
+    if (double(dim.x()) * dim.y() * dim.z() > 1024.0 * 1024 * 1024)
+        fail_file(path, "its grids span more than 1024^3 voxels");
+
+    CoefficientGrids out;
+    out.placement.size = {dim.x(), dim.y(), dim.z()};
+    const openvdb::Vec3d origin = xf.indexToWorld(box.min().asVec3d());
+    out.placement.origin = glm::vec3(float(origin[0]), float(origin[1]), float(origin[2]));
+    out.placement.spacing = glm::vec3(float(spacing[0]), float(spacing[1]), float(spacing[2]));
+    if (grids[0]->getName() == "sigma_s") {
+        out.sigma_s = dense_rgb(grids[0], box, path);
+        grids[0].reset();
+        out.sigma_a = dense_rgb(grids[1], box, path);
+    } else {
+        std::vector<Spectrum> density = dense_rgb(grids[0], box, path);
+        grids[0].reset();
+        std::vector<Spectrum> albedo;
+        if (grids.size() > 1) albedo = dense_rgb(grids[1], box, path);
+        out.sigma_s.resize(density.size());
+        out.sigma_a.resize(density.size());
+        for (std::size_t i = 0; i < density.size(); ++i) {
+            const Spectrum a = glm::clamp(albedo.empty() ? conv.albedo : albedo[i], 0.f, 1.f);
+            const Spectrum t = conv.scale * density[i];
+            out.sigma_s[i] = a * t;
+            out.sigma_a[i] = (1.f - a) * t;
+        }
+    }
+    return out;
 }
 
 }  // namespace jade

@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
@@ -103,4 +104,100 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
     require_clean_failure(dir, "volume --photo " + demo + " --match both" + out, "--match");
     require_clean_failure(dir, "volume --photo " + demo + " --out " + dir.file("no/such/dir/v.vdb"),
                           "does not exist");
+}
+
+// ---------------------------------------------------------------------------
+// jaderender render
+
+namespace {
+
+const std::string kBlob = std::string(JADE_DATA_DIR) + "/reference/blob.obj";
+
+std::vector<std::string> csv_rows(const std::string& path) {
+    std::vector<std::string> rows;
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) rows.push_back(line);
+    return rows;
+}
+
+}  // namespace
+
+TEST_CASE("render: a homogeneous medium writes EXR, PNG and convergence.csv", "[cli][render]") {
+    TempDir dir;
+    const Result r = run(dir, "render --mesh " + kBlob +
+                                  " --sigma-s 2,4,6 --sigma-a 0.5 --boundary fresnel --width 40 "
+                                  "--height 30 --spp 8 --transparent --out " + dir.file("r.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("estimated relative error"));
+    CHECK_THAT(r.out, Catch::Contains("samples/s"));
+    const jade::ImageF32 exr = jade::read_image_f32(dir.file("r.exr"));
+    CHECK(exr.width == 40);
+    CHECK(exr.height == 30);
+    CHECK(exr.channels == 4);
+    for (float v : exr.pixels) REQUIRE(std::isfinite(v));
+    // Transparent film: a corner misses the object (alpha 0, no colour), the centre is covered.
+    CHECK(exr.at(0, 0, 3) == 0.f);
+    CHECK(exr.at(0, 0, 0) == 0.f);
+    CHECK(exr.at(20, 15, 3) == 1.f);
+    const jade::ImageF32 png = jade::read_image_f32(dir.file("r.png"));
+    CHECK(png.channels == 4);
+    const auto rows = csv_rows(dir.file("convergence.csv"));
+    REQUIRE(rows.size() >= 3);
+    CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse");
+    CHECK(rows.back().rfind("2,8,", 0) == 0);  // passes 0, 1, 2 of 2, 2, 4 samples: 8 spp
+}
+
+TEST_CASE("render: a saved volume on another mesh, against a reference, stopped by time",
+          "[cli][render]") {
+    TempDir dir;
+    REQUIRE(run(dir, "volume --photo " + std::string(JADE_DATA_DIR) +
+                         "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
+                         dir.file("v.vdb")).code == 0);
+    // First render: the reference for the second.
+    REQUIRE(run(dir, "render --volume " + dir.file("v.vdb") + " --mesh " + std::string(JADE_DATA_DIR) +
+                         "/meshes/spot-cow.obj --width 24 --height 24 --spp 4 --png '' --convergence '' "
+                         "--out " + dir.file("ref.exr")).code == 0);
+    CHECK_FALSE(std::filesystem::exists(dir.file("ref.png")));
+    const Result r = run(dir, "render --volume " + dir.file("v.vdb") + " --mesh " +
+                                  std::string(JADE_DATA_DIR) + "/meshes/spot-cow.obj --width 24 "
+                                  "--height 24 --spp 100000 --time 1 --reference " + dir.file("ref.exr") +
+                                  " --out " + dir.file("r.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("stopped by time"));
+    CHECK_THAT(r.out, Catch::Contains("RMSE"));
+    CHECK_THAT(r.out, Catch::Contains("jaderender volume 32^3 on the mesh's cube"));
+    const auto rows = csv_rows(dir.file("convergence.csv"));
+    REQUIRE(rows.size() >= 2);
+    CHECK(rows.back().find(",,") == std::string::npos);  // RMSE columns filled
+}
+
+TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][render]") {
+    TempDir dir;
+    const std::string out = " --out " + dir.file("r.exr");
+    const std::string medium = " --sigma-s 1 --sigma-a 1";
+    struct Case {
+        std::string args, names;
+    };
+    const Case cases[] = {
+        {"render --mesh " + dir.file("none.obj") + medium + out, "none.obj"},
+        {"render --mesh " + kBlob + out, "--volume"},
+        {"render --mesh " + kBlob + medium + " --volume " + dir.file("v.vdb") + out, "--volume"},
+        {"render --mesh " + kBlob + medium + " --boundary glass" + out, "--boundary"},
+        {"render --mesh " + kBlob + medium + " --light-dir 0,0" + out, "--light-dir"},
+        {"render --mesh " + kBlob + medium + " --ior 0.5" + out, "--ior"},
+        {"render --mesh " + kBlob + medium + " --env " + dir.file("sky.exr") + out, "sky.exr"},
+        {"render --mesh " + kBlob + medium + " --reference " + kBlob + out, "blob.obj"},
+        {"render --mesh " + kBlob + medium + " --out " + dir.file("no/such/r.exr"), "does not exist"},
+        {"render --mesh " + kBlob + medium + " --spp 0" + out, "--spp"},
+    };
+    for (const Case& c : cases) {
+        INFO("jaderender " << c.args);
+        const Result r = run(dir, c.args);
+        CHECK(r.code == 2);
+        CHECK(lines(r.err) == 1);
+        CHECK_THAT(r.err, Catch::Contains(c.names));
+        CHECK(dir.entries() == 0);
+    }
 }

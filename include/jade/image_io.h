@@ -13,7 +13,22 @@ void write_image_u8(const std::string& path, int width, int height, int channels
                     const std::vector<std::uint8_t>& pixels);
 
 // Writes float pixels (linear radiance) likewise; EXR keeps them as float.
+// With 4 channels the alpha is taken as straight (unassociated) unless
+// `associated_alpha` says the colour is already multiplied by it.
 void write_image_f32(const std::string& path, int width, int height, int channels,
-                     const std::vector<float>& pixels);
+                     const std::vector<float>& pixels, bool associated_alpha = false);
+
+// A float image as read from disk: linear values, row 0 at the top.
+struct ImageF32 {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;  // interleaved
+    float at(int x, int y, int c) const {
+        return pixels[(std::size_t(y) * width + x) * channels + c];
+    }
+};
+
+// Reads any format OpenImageIO knows as float. 8-bit files are decoded from
+// sRGB to linear (an HDR/EXR is linear already). Throws jade::Error naming the file.
+ImageF32 read_image_f32(const std::string& path);
 
 }  // namespace jade

@@ -35,3 +35,26 @@ private:
 };
 
 }  // namespace jade
+
+namespace jade {
+
+// The random numbers of one camera sample: a stream keyed by (seed, pixel,
+// sample index), so a pixel's value never depends on which thread rendered it
+// or in which order (renders are bit-identical whatever the thread count).
+class SampleStream {
+public:
+    SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
+        : key_(splitmix64(splitmix64(seed ^ 0xA0761D6478BD642Full) + pixel) ^
+               splitmix64(sample * 0xE7037ED1A0B428DBull + 0x8EBC6AF09C88C6E3ull)) {}
+    // Uniform float in [0, 1): 24 random bits, so 1 is never returned.
+    float uniform() {
+        return float(splitmix64(key_ + 0x9E3779B97F4A7C15ull * ++counter_) >> 40) *
+               (1.f / 16777216.f);
+    }
+
+private:
+    std::uint64_t key_;
+    std::uint64_t counter_ = 0;
+};
+
+}  // namespace jade

@@ -15,6 +15,7 @@
 // OpenVDB readers (Blender, Houdini) widen them to float transparently.
 
 #include "jade/material_volume.h"
+#include "jade/media/grid.h"
 
 #include <string>
 
@@ -29,5 +30,25 @@ void write_material_vdb(const std::string& path, const MaterialVolume& volume);
 // Throws jade::Error for a missing file, a file OpenVDB cannot read, or a .vdb
 // that is not a jaderender material volume.
 MaterialVolume read_material_vdb(const std::string& path);
+
+// True when the file is a jaderender material volume (has 'jade:format'
+// metadata). Throws jade::Error when the file cannot be read as OpenVDB.
+bool is_material_vdb(const std::string& path);
+
+// How a foreign .vdb's `density` grid becomes coefficients (the convention of
+// Mitsuba's and Blender's volumes): σ_t = scale · density, σ_s = albedo · σ_t,
+// σ_a = (1 − albedo) · σ_t, with the albedo from a Vec3f/float `color` grid
+// when the file has one, else `albedo`.
+struct DensityConversion {
+    float scale = 1.f;
+    Spectrum albedo{0.9f};
+};
+
+// Reads a medium from a foreign .vdb whose grids sit in world space: float or
+// Vec3f grids `sigma_s` and `sigma_a` (per world unit), or else `density`
+// (+ `color`) converted as above. The grids are made dense over the bounding
+// box of their active voxels. Their transform must be axis-aligned (a scale
+// per axis and a translation) and shared. Throws jade::Error naming the file.
+CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversion& conversion);
 
 }  // namespace jade

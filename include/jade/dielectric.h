@@ -1,0 +1,61 @@
+#pragma once
+// The object's boundary: a smooth dielectric interface (paper §5.3, DESIGN §6).
+//
+//   split    the paper's model: reflect with weight `specular` (its specular
+//            coefficient 0.5), refract with weight 1 − specular; where
+//            refraction is impossible (total internal reflection) reflect with
+//            weight 1. Energy is conserved, but the split ignores the angle.
+//   fresnel  exact unpolarised Fresnel reflectance; the physical model and the
+//            one other renderers (Mitsuba's `dielectric`) use.
+//   none     index-matched: rays pass straight through; only the medium acts.
+//
+// Every mode is sampled exactly (the branch is chosen with the probability of
+// its weight), so the sampled weight is 1. Radiance is not rescaled by η² on
+// refraction: every light in a scene sits outside the object, so a path that
+// reaches a light crosses the boundary in and out equally often and the
+// factors cancel exactly.
+
+#include <glm/vec3.hpp>
+
+#include <string>
+
+namespace jade {
+
+enum class BoundaryMode { Split, Fresnel, None };
+const char* to_string(BoundaryMode mode);
+BoundaryMode parse_boundary_mode(const std::string& name);  // throws jade::Error
+
+// Unpolarised Fresnel reflectance for light arriving at cos_i > 0 to the
+// normal on the side of index n_i, with eta = n_t / n_i. 1 under total
+// internal reflection.
+float fresnel_dielectric(float cos_i, float eta);
+
+// Mirror direction of propagation direction d about unit normal n.
+glm::vec3 reflect(const glm::vec3& d, const glm::vec3& n);
+
+// Refraction of propagation direction d through the interface with unit
+// normal n facing the incoming side (dot(d, n) < 0), eta = n_t / n_i.
+// Returns false under total internal reflection.
+bool refract(const glm::vec3& d, const glm::vec3& n, float eta, glm::vec3& out);
+
+struct BoundaryParams {
+    BoundaryMode mode = BoundaryMode::Split;
+    float ior = 1.6f;        // interior index of refraction (the exterior is 1)
+    float specular = 0.5f;   // split mode's reflection weight
+    void validate() const;   // throws jade::Error
+};
+
+struct BoundarySample {
+    glm::vec3 direction;  // new propagation direction
+    bool reflected;       // true: the ray stays on its side
+    float probability;    // of the branch taken (for statistics and tests)
+};
+
+// Samples the interface for propagation direction d arriving at a surface
+// with unit normal n (any orientation); `entering` says whether d comes from
+// outside (index 1) into the object (index ior). u is uniform in [0, 1).
+// Not for mode none, which has no interface.
+BoundarySample sample_boundary(const BoundaryParams& params, const glm::vec3& d,
+                               const glm::vec3& n, bool entering, float u);
+
+}  // namespace jade

@@ -1,0 +1,74 @@
+#pragma once
+// `jaderender render`: everything one render needs, as plain options, turned
+// into a scene (mesh, medium, lights, camera), rendered progressively and
+// written out. The command-line front end only fills RenderJob.
+
+#include "jade/camera.h"
+#include "jade/dielectric.h"
+#include "jade/renderer.h"
+#include "jade/vdb_io.h"
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jade {
+
+struct RenderJob {
+    // Scene
+    std::string mesh;                          // .obj / .gltf / .glb
+    bool flat_normals = false;                 // shade with face normals
+    bool allow_open = false;                   // render a badly open mesh anyway
+    std::string volume;                        // .vdb: a jaderender volume or foreign grids
+    std::optional<std::array<float, 3>> ks;    // override a jaderender volume's k_s
+    DensityConversion density;                 // for a foreign `density` grid
+    std::optional<Spectrum> sigma_s, sigma_a;  // a homogeneous medium instead of a volume
+    BoundaryParams interface;
+    float g = 0.f;                             // Henyey–Greenstein asymmetry
+
+    // Camera: framed from the mesh unless origin is given.
+    std::optional<glm::vec3> camera_origin;
+    glm::vec3 camera_target{0.f};
+    bool camera_target_given = false;
+    glm::vec3 camera_up{0.f, 1.f, 0.f};
+    float fov_degrees = 40.f;                  // horizontal
+    int width = 512, height = 512;
+
+    // Light
+    glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
+    float light_irradiance = 3.f;
+    float light_radius_degrees = 8.f;
+    std::string environment = "0.4";           // "v", "r,g,b", or a lat-long image
+    float environment_scale = 1.f;
+    std::string background;                    // image behind the object
+    bool transparent = false;
+
+    RenderSettings settings;
+    std::string reference;                     // image to measure RMSE against
+
+    // Outputs: out (.exr); "auto" puts the PNG beside it (same name) and
+    // convergence.csv in its folder; "" skips either.
+    std::string out;
+    std::string png = "auto";
+    std::string convergence = "auto";
+};
+
+struct RenderJobResult {
+    RenderResult render;
+    std::vector<std::string> warnings;  // e.g. an open mesh
+    std::vector<std::string> written;   // files, in the order written
+    std::string medium_description;
+    std::size_t medium_bytes = 0;
+    double load_seconds = 0.0;
+};
+
+// Validates the job, loads everything, renders, writes the outputs (each whole
+// or not at all). Throws jade::Error with one line naming the bad input.
+RenderJobResult run_render_job(const RenderJob& job, Progress* progress = nullptr,
+                               const std::function<void(const PassRecord&)>& on_pass = nullptr);
+
+// Parses "v" or "r,g,b" into a colour; false when it is neither.
+bool parse_colour(const std::string& text, Spectrum& out);
+
+}  // namespace jade
