@@ -134,6 +134,8 @@ void add_render_flags(CLI::App& cmd, RenderFlags& f) {
                    "Camera position x,y,z (default: framed from the mesh's upper front)");
     cmd.add_option("--camera-target", f.target.text, "Point looked at (default: the mesh's centre)");
     cmd.add_option("--camera-up", f.up.text, "Up vector (default 0,1,0)");
+    cmd.add_option("--camera-file", j.camera_file,
+                   "Use the first perspective camera of this .gltf/.glb (e.g. the mesh file)");
     cmd.add_option("--fov", j.fov_degrees, "HORIZONTAL field of view, degrees")->capture_default_str();
     cmd.add_option("--width", j.width, "Image width, pixels")->capture_default_str();
     cmd.add_option("--height", j.height, "Image height, pixels")->capture_default_str();
@@ -246,17 +248,34 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "Worker threads (0 = all cores); results do not depend on it")
         ->capture_default_str();
 
-    jade::VolumeBenchOptions bench;
     auto* bench_cmd = app.add_subcommand(
-        "bench", "Benchmark the pipeline's stages (time, throughput, peak memory)");
-    bench_cmd->add_option("--resolution", bench.resolution, "Voxels along each side")
+        "bench", "Benchmarks: time, throughput, error against time and peak memory");
+    bench_cmd->require_subcommand(1);
+    jade::VolumeBenchOptions bench;
+    auto* bench_volume = bench_cmd->add_subcommand(
+        "volume", "The volume's stages: noise + matching, .vdb write and read");
+    bench_volume->add_option("--resolution", bench.resolution, "Voxels along each side")
         ->capture_default_str();
-    bench_cmd->add_option("--photo", bench.photo,
-                          "Photo to match (default: a built-in synthetic stone)");
-    bench_cmd->add_option("--repeats", bench.repeats, "Runs per stage; the best is reported")
+    bench_volume->add_option("--photo", bench.photo,
+                             "Photo to match (default: a built-in synthetic stone)");
+    bench_volume->add_option("--repeats", bench.repeats, "Runs per stage; the best is reported")
         ->capture_default_str();
-    bench_cmd->add_option("--scratch", bench.scratch_dir,
-                          "Folder for the temporary .vdb (default: the system's temp folder)");
+    bench_volume->add_option("--scratch", bench.scratch_dir,
+                             "Folder for the temporary .vdb (default: the system's temp folder)");
+    jade::RenderBenchOptions rbench;
+    auto* bench_render = bench_cmd->add_subcommand(
+        "render", "Progressive rendering of the material volume in a mesh until a target error");
+    bench_render->add_option("--photo", rbench.photo, "Photo (default: a built-in synthetic stone)");
+    bench_render->add_option("--mesh", rbench.mesh, "Mesh (default: a built-in sphere)");
+    bench_render->add_option("--resolution", rbench.resolution, "Voxels along each side")
+        ->capture_default_str();
+    bench_render->add_option("--width", rbench.width, "Image width")->capture_default_str();
+    bench_render->add_option("--height", rbench.height, "Image height")->capture_default_str();
+    bench_render->add_option("--target-error", rbench.target_error,
+                             "Estimated relative error to stop at")
+        ->capture_default_str();
+    bench_render->add_option("--max-seconds", rbench.max_seconds, "Time budget")
+        ->capture_default_str();
 
     try {
         app.parse(argc, argv);
@@ -280,7 +299,8 @@ int main(int argc, char** argv) {
     try {
         if (*volume_cmd) return run_volume(vol);
         if (*render_cmd) return run_render(render_flags);
-        if (*bench_cmd) return jade::run_volume_benchmark(bench);
+        if (*bench_volume) return jade::run_volume_benchmark(bench);
+        if (*bench_render) return jade::run_render_benchmark(rbench);
     } catch (const jade::Error& e) {
         std::fprintf(stderr, "jaderender: error: %s\n", e.what());
         return 2;

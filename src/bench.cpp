@@ -1,10 +1,16 @@
 #include "jade/bench.h"
 
 #include "jade/atomic_file.h"
+#include "jade/error.h"
 #include "jade/material_volume.h"
+#include "jade/media/grid.h"
+#include "jade/mesh.h"
+#include "jade/mesh_accel.h"
+#include "jade/renderer.h"
 #include "jade/photo.h"
 #include "jade/random.h"
 #include "jade/report.h"
+#include "jade/render_job.h"
 #include "jade/vdb_io.h"
 
 #include <tbb/info.h>
@@ -83,6 +89,65 @@ int run_volume_benchmark(const VolumeBenchOptions& o) {
     std::filesystem::remove(path);
     std::printf("round trip exact: %s\n", back.levels == vol.levels ? "yes" : "NO");
     return back.levels == vol.levels ? 0 : 1;
+}
+
+int run_render_benchmark(const RenderBenchOptions& o) {
+    if (!(o.target_error > 0.0)) throw Error("--target-error must be positive");
+    const Photo photo = o.photo.empty() ? builtin_photo() : load_photo(o.photo);
+    const TriangleMesh mesh = o.mesh.empty() ? icosphere(5, 1.f) : load_mesh(o.mesh);
+    NoiseParams noise;
+    noise.resolution = o.resolution;
+    noise.validate();
+    const Stopwatch build_clock;
+    const MaterialVolume volume = build_material_volume(photo, noise, MatchMode::Joint, OpticalParams{});
+    const double build_s = build_clock.seconds();
+
+    const MeshAccel accel(mesh);
+    const MaterialVolumeMedium medium(volume, bounding_cube(mesh));
+    // The scene `jaderender render` sets up by default.
+    const RenderJob defaults;
+    Scene scene;
+    scene.boundary = &accel;
+    scene.medium = &medium;
+    scene.interface = defaults.interface;
+    scene.light = DirectionalLight(defaults.light_direction, defaults.light_irradiance,
+                                   defaults.light_radius_degrees);
+    Spectrum env;
+    parse_colour(defaults.environment, env);
+    scene.environment = Environment(env);
+    scene.fit_ray_epsilon();
+    const PinholeCamera camera(frame_mesh(mesh.bounds(), o.width, o.height));
+
+    RenderSettings settings;
+    settings.spp = 1 << 20;
+    settings.time_limit = o.max_seconds;
+    settings.target_error = o.target_error;
+    std::printf("render benchmark: volume %d^3 from %s (built in %.2f s), mesh %s (%zu triangles), "
+                "%dx%d, %d threads; until estimated relative error %.3g or %.0f s\n",
+                o.resolution, photo.path.c_str(), build_s, mesh.path.c_str(), mesh.triangles.size(),
+                o.width, o.height, tbb::info::default_concurrency(), o.target_error, o.max_seconds);
+    std::printf("%6s %8s %10s %12s\n", "pass", "spp", "seconds", "est. error");
+    const RenderResult r = render(scene, camera, settings, nullptr, [](const PassRecord& p) {
+        std::printf("%6d %8d %10.2f %12.4f\n", p.pass, p.spp, p.seconds, p.estimated_error);
+        std::fflush(stdout);
+    });
+    const PassRecord& last = r.passes.back();
+    const double samples = double(o.width) * o.height * last.spp;
+    const PathCounters& c = r.counters;
+    const double collisions = double(c.real_collisions + c.null_collisions);
+    std::printf("reached %.4f after %.2f s (%d spp; stopped by %s)\n", last.estimated_error, r.seconds,
+                last.spp, r.stopped_by.c_str());
+    std::printf("samples/s %.3g, path vertices/s %.3g, vertices per path %.1f\n", samples / r.seconds,
+                double(c.vertices()) / r.seconds, double(c.vertices()) / double(c.paths));
+    std::printf("collisions: %.3g real, %.3g null (%.1f%% null); capped paths %llu\n",
+                double(c.real_collisions), double(c.null_collisions),
+                collisions > 0 ? 100.0 * double(c.null_collisions) / collisions : 0.0,
+                (unsigned long long)c.capped_paths);
+    std::printf("memory: medium %s, film %s, peak RSS %s\n",
+                format_megabytes(double(medium.memory_bytes())).c_str(),
+                format_megabytes(double(o.width) * o.height * (6 * sizeof(double) + sizeof(std::uint32_t))).c_str(),
+                format_megabytes(double(peak_rss_bytes())).c_str());
+    return 0;
 }
 
 }  // namespace jade

@@ -55,4 +55,16 @@ CameraParams frame_mesh(const Bounds3& b, int width, int height, float fov_degre
     return p;
 }
 
+CameraParams camera_from_file(const FileCamera& c, int width, int height) {
+    CameraParams p;
+    p.width = width;
+    p.height = height;
+    p.origin = c.origin;
+    p.target = c.origin + c.forward;
+    p.up = c.up;
+    const float tan_half_x = std::tan(0.5f * c.yfov_radians) * float(width) / float(height);
+    p.fov_degrees = 2.f * std::atan(tan_half_x) * 180.f / kPi;
+    return p;
+}
+
 }  // namespace jade

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 namespace jade {
@@ -144,13 +145,10 @@ glm::vec3 vec3_at(const AccessorView& v, std::size_t i) {
     return {f[0], f[1], f[2]};
 }
 
+tinygltf::Model read_gltf_model(const std::string& path);
+
 TriangleMesh load_gltf(const std::string& path) {
-    tinygltf::Model model;
-    tinygltf::TinyGLTF loader;
-    std::string err, warn;
-    const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok) fail_file(path, "cannot read as glTF (" + err + ")");
+    const tinygltf::Model model = read_gltf_model(path);
 
     TriangleMesh mesh;
     bool all_normals = true;
@@ -206,6 +204,16 @@ TriangleMesh load_gltf(const std::string& path) {
         mesh.file_normals = true;
     }
     return mesh;
+}
+
+tinygltf::Model read_gltf_model(const std::string& path) {
+    tinygltf::Model model;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) fail_file(path, "cannot read as glTF (" + err + ")");
+    return model;
 }
 
 // Area-weighted vertex normals over vertices welded by position, so a file
@@ -312,6 +320,81 @@ Cube bounding_cube(const TriangleMesh& mesh) {
     cube.side = side;
     for (int k = 0; k < 3; ++k) cube.min[k] = double(c[k]) - 0.5 * side;
     return cube;
+}
+
+}  // namespace jade
+
+namespace jade {
+
+TriangleMesh icosphere(int level, float radius) {
+    TriangleMesh m;
+    m.path = "(built-in icosphere, level " + std::to_string(level) + ")";
+    const float t = (1.f + std::sqrt(5.f)) / 2.f;
+    m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    for (auto& p : m.positions) p = glm::normalize(p);
+    m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                   {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                   {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                   {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (int l = 0; l < level; ++l) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoint;
+        auto mid = [&](std::uint32_t a, std::uint32_t b) {
+            const auto key = std::minmax(a, b);
+            auto it = midpoint.find(key);
+            if (it != midpoint.end()) return it->second;
+            m.positions.push_back(glm::normalize(m.positions[a] + m.positions[b]));
+            const auto i = std::uint32_t(m.positions.size() - 1);
+            midpoint.emplace(key, i);
+            return i;
+        };
+        std::vector<std::array<std::uint32_t, 3>> finer;
+        for (const auto& tri : m.triangles) {
+            const std::uint32_t a = mid(tri[0], tri[1]), b = mid(tri[1], tri[2]), c = mid(tri[2], tri[0]);
+            finer.push_back({tri[0], a, c});
+            finer.push_back({tri[1], b, a});
+            finer.push_back({tri[2], c, b});
+            finer.push_back({a, b, c});
+        }
+        m.triangles = std::move(finer);
+    }
+    m.normals = m.positions;
+    for (auto& p : m.positions) p *= radius;
+    m.file_normals = true;
+    return m;
+}
+
+FileCamera load_gltf_camera(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext != ".gltf" && ext != ".glb") fail_file(path, "a camera can be read from .gltf or .glb only");
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    const tinygltf::Model model = read_gltf_model(path);
+    std::optional<FileCamera> found;
+    auto visit = [&](auto&& self, int node_index, const glm::mat4& parent) -> void {
+        if (found) return;
+        const auto& node = model.nodes[std::size_t(node_index)];
+        const glm::mat4 world = parent * node_matrix(node);
+        if (node.camera >= 0 && model.cameras[std::size_t(node.camera)].type == "perspective") {
+            FileCamera c;
+            c.origin = glm::vec3(world * glm::vec4(0.f, 0.f, 0.f, 1.f));
+            c.forward = glm::normalize(glm::vec3(world * glm::vec4(0.f, 0.f, -1.f, 0.f)));
+            c.up = glm::normalize(glm::vec3(world * glm::vec4(0.f, 1.f, 0.f, 0.f)));
+            c.yfov_radians = float(model.cameras[std::size_t(node.camera)].perspective.yfov);
+            found = c;
+            return;
+        }
+        for (int child : node.children) self(self, child, world);
+    };
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (!model.scenes.empty())
+        for (int root : model.scenes[std::size_t(scene)].nodes) visit(visit, root, glm::mat4(1.f));
+    else
+        for (std::size_t i = 0; i < model.nodes.size(); ++i) visit(visit, int(i), glm::mat4(1.f));
+    if (!found) fail_file(path, "holds no perspective camera");
+    if (!(found->yfov_radians > 0.f && found->yfov_radians < 3.14f))
+        fail_file(path, "its camera's yfov is not between 0 and pi");
+    return *found;
 }
 
 }  // namespace jade

@@ -145,6 +145,11 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
 
     // Camera.
     CameraParams cam = frame_mesh(mesh.bounds(), job.width, job.height, job.fov_degrees);
+    if (!job.camera_file.empty()) {
+        if (job.camera_origin || job.camera_target_given)
+            throw Error("--camera-file cannot be combined with --camera-origin/--camera-target");
+        cam = camera_from_file(load_gltf_camera(job.camera_file), job.width, job.height);
+    }
     if (job.camera_origin) {
         cam.origin = *job.camera_origin;
         cam.up = job.camera_up;

@@ -3,10 +3,13 @@
 
 #include "jade/camera.h"
 
+#include "test_util.h"
+
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <fstream>
 
 using namespace jade;
 
@@ -62,4 +65,38 @@ TEST_CASE("impossible cameras are rejected", "[camera]") {
     p = CameraParams{};
     p.target = p.origin;
     CHECK_THROWS(p.validate());
+}
+
+TEST_CASE("a glTF file's camera: node transform, -z view, vertical fov made horizontal", "[camera]") {
+    jade_test::TempDir dir;
+    const std::string path = dir.file("cam.gltf");
+    {
+        // A camera node under a parent that translates by (1, 2, 3) and turns
+        // 90 degrees about +y (quaternion (0, sin 45°, 0, cos 45°)): it then
+        // looks along -x.
+        std::ofstream out(path);
+        out << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [{"translation": [1, 2, 3], "rotation": [0, 0.70710678, 0, 0.70710678], "children": [1]},
+            {"camera": 0}],
+  "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}]})";
+    }
+    const FileCamera c = load_gltf_camera(path);
+    CHECK(c.origin.x == Approx(1.f));
+    CHECK(c.origin.y == Approx(2.f));
+    CHECK(c.origin.z == Approx(3.f));
+    CHECK(c.forward.x == Approx(-1.f).margin(1e-6));
+    CHECK(c.forward.z == Approx(0.f).margin(1e-6));
+    CHECK(c.up.y == Approx(1.f).margin(1e-6));
+    const CameraParams p = camera_from_file(c, 200, 100);
+    // tan(hfov / 2) = tan(yfov / 2) * aspect.
+    CHECK(std::tan(0.5 * p.fov_degrees * 3.14159265358979 / 180) == Approx(std::tan(0.25) * 2.0).epsilon(1e-5));
+    const PinholeCamera cam(p);
+    const glm::vec3 centre = cam.direction(0.5f, 0.5f);
+    CHECK(centre.x == Approx(-1.f).margin(1e-5));
+    // The top edge's centre is yfov / 2 above the view direction.
+    CHECK(std::asin(double(cam.direction(0.5f, 0.f).y)) == Approx(0.25).epsilon(1e-4));
+
+    CHECK_THROWS_WITH(load_gltf_camera(dir.file("none.glb")), Catch::Contains("none.glb"));
+    CHECK_THROWS_WITH(load_gltf_camera(JADE_DATA_DIR "/meshes/greek-vase-01.glb"),
+                      Catch::Contains("no perspective camera"));
 }

@@ -135,3 +135,15 @@ TEST_CASE("bad meshes are one clear error naming the file", "[mesh]") {
     std::ofstream(dir.file("bad.glb")) << "glTF garbage";
     CHECK_THROWS_WITH(load_mesh(dir.file("bad.glb")), Catch::Contains("bad.glb"));
 }
+
+TEST_CASE("the built-in icosphere is closed, outward-wound and on the sphere", "[mesh]") {
+    const TriangleMesh m = icosphere(3, 2.f);
+    CHECK(m.triangles.size() == 20u * 64u);
+    CHECK(mesh_topology(m).closed());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const auto& tri = m.triangles[t];
+        const glm::vec3 c = (m.positions[tri[0]] + m.positions[tri[1]] + m.positions[tri[2]]) / 3.f;
+        REQUIRE(glm::dot(m.face_normal(t), c) > 0.f);
+    }
+    for (const auto& p : m.positions) REQUIRE(glm::length(p) == Approx(2.f));
+}

@@ -19,4 +19,20 @@ struct VolumeBenchOptions {
 // after the in-memory stages and after the file stages. Returns 0.
 int run_volume_benchmark(const VolumeBenchOptions& options);
 
+// Rendering: the material volume (from `photo`, or the built-in stone) in a
+// mesh (`mesh`, or a built-in icosphere) at width x height, with the default
+// light and boundary, rendered progressively until the estimated relative
+// error reaches `target_error` (or `max_seconds` pass). Prints error against
+// time per pass, samples/s, path vertices/s, real and null collisions, the
+// medium's memory and the process's peak memory. Returns 0.
+struct RenderBenchOptions {
+    std::string photo;        // empty: the built-in stone
+    std::string mesh;         // empty: a built-in sphere
+    int resolution = 256;     // of the volume
+    int width = 512, height = 512;
+    double target_error = 0.05;
+    double max_seconds = 600.0;
+};
+int run_render_benchmark(const RenderBenchOptions& options);
+
 }  // namespace jade

@@ -44,4 +44,8 @@ private:
 // fits the narrower field of view with a 10% margin.
 CameraParams frame_mesh(const Bounds3& bounds, int width, int height, float fov_degrees = 40.f);
 
+// The camera of a scene file, for an image of width x height: glTF's
+// vertical field of view becomes our horizontal one for that aspect ratio.
+CameraParams camera_from_file(const FileCamera& camera, int width, int height);
+
 }  // namespace jade

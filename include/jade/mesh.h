@@ -57,6 +57,21 @@ struct MeshTopology {
 };
 MeshTopology mesh_topology(const TriangleMesh& mesh);
 
+// The first perspective camera of a glTF scene (depth-first over the default
+// scene's nodes), in world space: glTF cameras look along their node's −z
+// with +y up, and give a VERTICAL field of view.
+struct FileCamera {
+    glm::vec3 origin{0.f}, forward{0.f, 0.f, -1.f}, up{0.f, 1.f, 0.f};
+    float yfov_radians = 0.8f;
+};
+// Throws jade::Error naming the file when it cannot be read or holds no
+// perspective camera.
+FileCamera load_gltf_camera(const std::string& path);
+
+// A sphere of `radius` at the origin: the icosahedron subdivided `level`
+// times (20 * 4^level triangles), vertices on the sphere, exact normals.
+TriangleMesh icosphere(int level, float radius);
+
 // The cube the material volume fills around a mesh (DESIGN §4): centred on the
 // bounding box, side = its longest extent.
 Cube bounding_cube(const TriangleMesh& mesh);

@@ -27,7 +27,9 @@ struct RenderJob {
     BoundaryParams interface;
     float g = 0.f;                             // Henyey–Greenstein asymmetry
 
-    // Camera: framed from the mesh unless origin is given.
+    // Camera: from a glTF file's first camera when camera_file is set, else
+    // framed from the mesh unless origin is given.
+    std::string camera_file;
     std::optional<glm::vec3> camera_origin;
     glm::vec3 camera_target{0.f};
     bool camera_target_given = false;
@@ -38,7 +40,7 @@ struct RenderJob {
     // Light
     glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
     float light_irradiance = 3.f;
-    float light_radius_degrees = 8.f;
+    float light_radius_degrees = 20.f;
     std::string environment = "0.4";           // "v", "r,g,b", or a lat-long image
     float environment_scale = 1.f;
     std::string background;                    // image behind the object
