@@ -228,6 +228,7 @@ int main(int argc, char** argv) {
                  "materials (jade, marble) from one photograph"};
     app.set_version_flag("--version", std::string(JADE_VERSION));
     app.require_subcommand(1);
+    app.fallthrough();  // --threads may also follow the subcommand
 
     VolumeOptions vol;
     auto* volume_cmd = app.add_subcommand(

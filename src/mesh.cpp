@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -147,15 +148,30 @@ glm::vec3 vec3_at(const AccessorView& v, std::size_t i) {
 
 tinygltf::Model read_gltf_model(const std::string& path);
 
+// Calls visit(node, world transform) for every node of the default scene
+// (every node when the file has no scene), parents before children.
+void for_each_scene_node(const tinygltf::Model& model,
+                         const std::function<void(const tinygltf::Node&, const glm::mat4&)>& visit) {
+    auto walk = [&](auto&& self, int index, const glm::mat4& parent) -> void {
+        const auto& node = model.nodes[std::size_t(index)];
+        const glm::mat4 world = parent * node_matrix(node);
+        visit(node, world);
+        for (int child : node.children) self(self, child, world);
+    };
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (!model.scenes.empty())
+        for (int root : model.scenes[std::size_t(scene)].nodes) walk(walk, root, glm::mat4(1.f));
+    else
+        for (std::size_t i = 0; i < model.nodes.size(); ++i) walk(walk, int(i), glm::mat4(1.f));
+}
+
 TriangleMesh load_gltf(const std::string& path) {
     const tinygltf::Model model = read_gltf_model(path);
 
     TriangleMesh mesh;
     bool all_normals = true;
     std::vector<glm::vec3> normals;
-    auto add_node = [&](auto&& self, int node_index, const glm::mat4& parent) -> void {
-        const auto& node = model.nodes[node_index];
-        const glm::mat4 world = parent * node_matrix(node);
+    for_each_scene_node(model, [&](const tinygltf::Node& node, const glm::mat4& world) {
         const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
         if (node.mesh >= 0)
             for (const auto& prim : model.meshes[node.mesh].primitives) {
@@ -192,13 +208,7 @@ TriangleMesh load_gltf(const std::string& path) {
                                                   : std::array<std::uint32_t, 3>{base + idx[i], base + idx[i + 1], base + idx[i + 2]});
                 }
             }
-        for (int child : node.children) self(self, child, world);
-    };
-    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-    if (!model.scenes.empty())
-        for (int root : model.scenes[std::size_t(scene)].nodes) add_node(add_node, root, glm::mat4(1.f));
-    else
-        for (std::size_t i = 0; i < model.nodes.size(); ++i) add_node(add_node, int(i), glm::mat4(1.f));
+    });
     if (all_normals && normals.size() == mesh.positions.size()) {
         mesh.normals = std::move(normals);
         mesh.file_normals = true;
@@ -371,10 +381,8 @@ FileCamera load_gltf_camera(const std::string& path) {
     if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
     const tinygltf::Model model = read_gltf_model(path);
     std::optional<FileCamera> found;
-    auto visit = [&](auto&& self, int node_index, const glm::mat4& parent) -> void {
+    for_each_scene_node(model, [&](const tinygltf::Node& node, const glm::mat4& world) {
         if (found) return;
-        const auto& node = model.nodes[std::size_t(node_index)];
-        const glm::mat4 world = parent * node_matrix(node);
         if (node.camera >= 0 && model.cameras[std::size_t(node.camera)].type == "perspective") {
             FileCamera c;
             c.origin = glm::vec3(world * glm::vec4(0.f, 0.f, 0.f, 1.f));
@@ -382,15 +390,8 @@ FileCamera load_gltf_camera(const std::string& path) {
             c.up = glm::normalize(glm::vec3(world * glm::vec4(0.f, 1.f, 0.f, 0.f)));
             c.yfov_radians = float(model.cameras[std::size_t(node.camera)].perspective.yfov);
             found = c;
-            return;
         }
-        for (int child : node.children) self(self, child, world);
-    };
-    const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-    if (!model.scenes.empty())
-        for (int root : model.scenes[std::size_t(scene)].nodes) visit(visit, root, glm::mat4(1.f));
-    else
-        for (std::size_t i = 0; i < model.nodes.size(); ++i) visit(visit, int(i), glm::mat4(1.f));
+    });
     if (!found) fail_file(path, "holds no perspective camera");
     if (!(found->yfov_radians > 0.f && found->yfov_radians < 3.14f))
         fail_file(path, "its camera's yfov is not between 0 and pi");
