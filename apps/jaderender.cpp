@@ -56,6 +56,9 @@ int run_volume(const VolumeOptions& o) {
     const jade::MatchMode match = jade::parse_match_mode(o.match);
     o.noise.validate();
     o.optics.validate();
+    // Refuse a missing output folder now, not after seconds of work.
+    jade::require_output_folder(o.out);
+    if (!o.preview.empty()) jade::require_output_folder(o.preview);
 
     const jade::Stopwatch t_photo;
     const jade::Photo photo = jade::load_photo(o.photo, o.mask);

@@ -12,12 +12,17 @@ namespace jade {
 
 namespace fs = std::filesystem;
 
-AtomicFile::AtomicFile(std::string destination) : destination_(std::move(destination)) {
-    const fs::path dest(destination_);
+void require_output_folder(const std::string& path) {
+    const fs::path dest(path);
     const fs::path dir = dest.parent_path().empty() ? fs::path(".") : dest.parent_path();
     std::error_code ec;
-    if (!fs::is_directory(dir, ec))
-        fail_file(destination_, "the folder '" + dir.string() + "' does not exist");
+    if (!fs::is_directory(dir, ec)) fail_file(path, "the folder '" + dir.string() + "' does not exist");
+}
+
+AtomicFile::AtomicFile(std::string destination) : destination_(std::move(destination)) {
+    require_output_folder(destination_);
+    const fs::path dest(destination_);
+    const fs::path dir = dest.parent_path().empty() ? fs::path(".") : dest.parent_path();
     // Hidden, unique per process, same folder (so the final rename is atomic),
     // same extension (writers choose the format from it).
     temp_ = (dir / ("." + dest.stem().string() + ".partial-" + std::to_string(::getpid()) +

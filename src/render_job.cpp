@@ -1,5 +1,6 @@
 #include "jade/render_job.h"
 
+#include "jade/atomic_file.h"
 #include "jade/error.h"
 #include "jade/image_io.h"
 #include "jade/media/grid.h"
@@ -58,12 +59,7 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     if (job.out.empty()) throw Error("--out is required");
     if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
         throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
-    {
-        const auto dir = std::filesystem::path(job.out).parent_path();
-        std::error_code ec;
-        if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-            fail_file(job.out, "its folder does not exist");
-    }
+    require_output_folder(job.out);
     RenderJobResult result;
     const Stopwatch load_clock;
 

@@ -33,4 +33,8 @@ private:
 // Size of a file in bytes (0 when it does not exist).
 unsigned long long file_size(const std::string& path);
 
+// Throws jade::Error naming `path` when the folder it would be written to does
+// not exist, so a command can refuse before doing its work rather than after.
+void require_output_folder(const std::string& path);
+
 }  // namespace jade
