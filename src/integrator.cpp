@@ -159,7 +159,7 @@ PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
                         const glm::vec3 wl = scene.light.sample(rng.uniform(), rng.uniform(), pdf);
                         const float li = scene.light.is_delta()
                                              ? scene.light.irradiance()
-                                             : scene.light.radiance_toward(wl) / pdf;
+                                             : scene.light.disc_radiance() / pdf;
                         const Spectrum tr =
                             transmittance(scene, p, wl, rng, counters);
                         out.radiance += w.throughput() * scene.phase.eval(d, wl) * li * tr;

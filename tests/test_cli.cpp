@@ -201,3 +201,27 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         CHECK(dir.entries() == 0);
     }
 }
+
+TEST_CASE("render: an open mesh is rendered with a warning, a badly open one refused", "[cli][render]") {
+    TempDir dir;
+    // A unit cube without its top face: 4 of 18 edges border the hole.
+    {
+        std::ofstream obj(dir.file("open.obj"));
+        obj << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+               "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
+               "f 4 1 5\nf 4 5 8\n";
+    }
+    const std::string args = "render --mesh " + dir.file("open.obj") +
+                             " --sigma-s 1 --sigma-a 1 --width 8 --height 8 --spp 2 --out " + dir.file("r.exr");
+    const Result refused = run(dir, args);
+    CHECK(refused.code == 2);
+    CHECK(lines(refused.err) == 1);
+    CHECK_THAT(refused.err, Catch::Contains("badly open") && Catch::Contains("--allow-open"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("r.exr")));
+
+    const Result allowed = run(dir, args + " --allow-open");
+    CHECK(allowed.code == 0);
+    CHECK_THAT(allowed.err, Catch::Contains("warning") && Catch::Contains("not closed") &&
+                                Catch::Contains("4 open"));
+    CHECK(std::filesystem::exists(dir.file("r.exr")));
+}

@@ -260,3 +260,53 @@ TEST_CASE("stiff and extreme media give finite images", "[integrator][render]") 
         CHECK(all_finite(r.film));
     }
 }
+
+TEST_CASE("no light leaks through the boundary: an opaque interior shows only the reflection",
+          "[integrator][render]") {
+    // A black, strongly absorbing interior (σ_a = 10⁴): light that refracts
+    // in is absorbed within 10⁻³ of the surface, so a pixel shows exactly the
+    // reflected unit environment: 0.5 in split mode, F(θ) in fresnel mode.
+    // A ray that slipped through the surface (self-intersection, a missed
+    // edge) would escape and add up to 1.
+    const MeshAccel accel(sphere());
+    const HomogeneousMedium medium(Spectrum(0.f), Spectrum(1e4f));
+    const int size = 48;
+    const glm::dvec3 origin(0, 0, 4);
+    const double tan_half = std::tan(20.0 * kPi / 180.0);
+    auto direction = [&](double fx, double fy) {
+        return glm::normalize(glm::dvec3((2 * fx - 1) * tan_half, (1 - 2 * fy) * tan_half, -1.0));
+    };
+    // Fraction of the pixel covered, from a 4x4 grid of sub-pixel rays against the analytic sphere.
+    auto coverage = [&](int x, int y) {
+        int hit = 0;
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i)
+                hit += glm::length(glm::cross(origin, direction((x + (i + 0.5) / 4) / size,
+                                                                (y + (j + 0.5) / 4) / size))) < 1.0;
+        return hit;
+    };
+    for (BoundaryMode mode : {BoundaryMode::Split, BoundaryMode::Fresnel}) {
+        const Scene s = basic_scene(accel, &medium, mode, Spectrum(1.f));
+        const RenderResult r = render_spp(s, camera_at({0, 0, 4}, {0, 0, 0}, 40, size), 64);
+        jade_test::Expected e;
+        e.width = e.height = size;
+        e.skip = [&](int x, int y) { return coverage(x, y) != 16; };  // interior pixels only
+        e.value = [&](int x, int y, int) {
+            if (mode == BoundaryMode::Split) return 0.5;
+            double f = 0;  // the pixel's mean Fresnel reflectance, 4x4 sub-pixels
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) {
+                    const glm::dvec3 d = direction((x + (i + 0.5) / 4) / size, (y + (j + 0.5) / 4) / size);
+                    const double b = glm::dot(origin, d), t = -b - std::sqrt(b * b - 15.0);
+                    const double cos_i = -glm::dot(d, glm::normalize(origin + t * d));
+                    f += fresnel_dielectric(float(cos_i), 1.6f);
+                }
+            return f / 16;
+        };
+        e.variance = [](int, int, int) { return 0.0; };
+        const auto z = jade_test::block_z_scores(r.film, e, 8);
+        INFO(to_string(mode) << ": " << z);
+        CHECK(z.max_abs_z < 4.5);
+        for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
+    }
+}

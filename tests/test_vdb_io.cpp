@@ -167,3 +167,99 @@ TEST_CASE("reading a file that is not a jaderender volume is one clear error", "
     CHECK_THROWS_WITH(read_material_vdb(dir.file("edited.vdb")),
                       Catch::Contains("do not follow from"));
 }
+
+// ---------------------------------------------------------------------------
+// Foreign .vdb media (the renderer's --volume with another tool's grids)
+
+namespace {
+
+// Writes `grids` (all sharing one transform: voxel size h, offset) to path.
+void write_grids(const std::string& path, const openvdb::GridPtrVec& grids) {
+    openvdb::io::File(path).write(grids);
+}
+
+openvdb::math::Transform::Ptr placement(double h, openvdb::Vec3d offset) {
+    auto xf = openvdb::math::Transform::createLinearTransform(h);
+    xf->postTranslate(offset);
+    return xf;
+}
+
+}  // namespace
+
+TEST_CASE("foreign density + color grids become coefficients in world space", "[vdb]") {
+    openvdb::initialize();
+    TempDir dir;
+    const auto xf = placement(0.25, {1.0, 0.0, -2.0});
+    auto density = openvdb::FloatGrid::create(0.f);
+    density->setName("density");
+    density->setTransform(xf);
+    auto color = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
+    color->setName("color");
+    color->setTransform(xf);
+    // Active voxels (2..4, 1..2, 0..0): density = i, color = (0.5, 1, 0).
+    for (int i = 2; i <= 4; ++i)
+        for (int j = 1; j <= 2; ++j) {
+            density->tree().setValue(openvdb::Coord(i, j, 0), float(i));
+            color->tree().setValue(openvdb::Coord(i, j, 0), openvdb::Vec3f(0.5f, 1.f, 0.f));
+        }
+    write_grids(dir.file("d.vdb"), {density, color});
+    CHECK_FALSE(is_material_vdb(dir.file("d.vdb")));
+
+    DensityConversion conv;
+    conv.scale = 10.f;
+    const CoefficientGrids g = read_medium_vdb(dir.file("d.vdb"), conv);
+    // Dense over the active bounding box; voxel (2, 1, 0) is centred at offset + (2, 1, 0) h.
+    CHECK(g.placement.size == std::array<int, 3>{3, 2, 1});
+    CHECK(g.placement.origin.x == Approx(1.5f));
+    CHECK(g.placement.origin.y == Approx(0.25f));
+    CHECK(g.placement.origin.z == Approx(-2.f));
+    CHECK(g.placement.spacing.x == Approx(0.25f));
+    // σ_t = 10 · density, σ_s = albedo · σ_t, σ_a = (1 − albedo) · σ_t.
+    const Spectrum s = g.sigma_s[(0 * 2 + 1) * 3 + 2];  // voxel (4, 2, 0)
+    const Spectrum a = g.sigma_a[(0 * 2 + 1) * 3 + 2];
+    CHECK(s.x == Approx(20.f));
+    CHECK(s.y == Approx(40.f));
+    CHECK(s.z == Approx(0.f));
+    CHECK(a.x == Approx(20.f));
+    CHECK(a.z == Approx(40.f));
+
+    // Without a color grid the albedo comes from the conversion.
+    write_grids(dir.file("d2.vdb"), {density});
+    conv.albedo = Spectrum(0.25f);
+    const CoefficientGrids g2 = read_medium_vdb(dir.file("d2.vdb"), conv);
+    CHECK(g2.sigma_s[0].x == Approx(0.25f * 20.f));
+    CHECK(g2.sigma_a[0].x == Approx(0.75f * 20.f));
+}
+
+TEST_CASE("foreign sigma grids may be float; rotated or missing grids are refused", "[vdb]") {
+    openvdb::initialize();
+    TempDir dir;
+    const auto xf = placement(0.5, {0.0, 0.0, 0.0});
+    auto ss = openvdb::FloatGrid::create(0.f);
+    ss->setName("sigma_s");
+    ss->setTransform(xf);
+    auto sa = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
+    sa->setName("sigma_a");
+    sa->setTransform(xf);
+    ss->tree().setValue(openvdb::Coord(0, 0, 0), 3.f);
+    sa->tree().setValue(openvdb::Coord(0, 0, 0), openvdb::Vec3f(1.f, 2.f, 3.f));
+    write_grids(dir.file("s.vdb"), {ss, sa});
+    const CoefficientGrids g = read_medium_vdb(dir.file("s.vdb"), {});
+    CHECK(g.sigma_s[0] == Spectrum(3.f));
+    CHECK(g.sigma_a[0] == Spectrum(1.f, 2.f, 3.f));
+
+    auto rotated = ss->deepCopy();
+    auto rx = openvdb::math::Transform::createLinearTransform(0.5);
+    rx->postRotate(0.3, openvdb::math::Y_AXIS);
+    rotated->setTransform(rx);
+    auto sa2 = sa->deepCopy();
+    sa2->setTransform(rx);
+    write_grids(dir.file("r.vdb"), {rotated, sa2});
+    CHECK_THROWS_WITH(read_medium_vdb(dir.file("r.vdb"), {}), Catch::Contains("axis-aligned"));
+
+    auto other = openvdb::FloatGrid::create(0.f);
+    other->setName("temperature");
+    other->tree().setValue(openvdb::Coord(0, 0, 0), 1.f);
+    write_grids(dir.file("t.vdb"), {other});
+    CHECK_THROWS_WITH(read_medium_vdb(dir.file("t.vdb"), {}), Catch::Contains("t.vdb"));
+}

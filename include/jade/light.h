@@ -33,6 +33,10 @@ public:
     float angular_radius_degrees() const { return radius_degrees_; }
     // Radiance seen along propagation direction -w, i.e. looking toward w (0 for a delta light).
     float radiance_toward(const glm::vec3& w) const;
+    // The disc's uniform radiance (0 for a delta light): the value for
+    // directions sample() returns, without re-testing them against the disc's
+    // edge, where rounding could drop a sample.
+    float disc_radiance() const { return radiance_; }
     // A direction toward the light, uniform over its disc, with its solid-angle
     // pdf (returned as 0 for a delta light, whose weight is then the irradiance).
     glm::vec3 sample(float u1, float u2, float& pdf) const;
