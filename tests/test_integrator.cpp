@@ -310,3 +310,31 @@ TEST_CASE("no light leaks through the boundary: an opaque interior shows only th
         for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
     }
 }
+
+TEST_CASE("progressive rendering stops at the target error, the time budget or the spp", "[integrator][render]") {
+    const MeshAccel accel(sphere());
+    const HomogeneousMedium medium(Spectrum(3.f, 6.f, 1.f), Spectrum(0.1f, 0.5f, 0.2f));
+    const Scene s = basic_scene(accel, &medium, BoundaryMode::Fresnel, Spectrum(1.f));
+    const PinholeCamera cam = camera_at({0, 0, 4}, {0, 0, 0}, 40, 24);
+    RenderSettings rs;
+    rs.spp = 1 << 20;
+    rs.target_error = 0.05;
+    const RenderResult r = render(s, cam, rs);
+    CHECK(r.stopped_by == "target error");
+    CHECK(r.passes.back().estimated_error <= 0.05);
+    // The pass before did not reach it, and passes never shrink the sample count.
+    REQUIRE(r.passes.size() >= 2);
+    CHECK(r.passes[r.passes.size() - 2].estimated_error > 0.05);
+    for (std::size_t i = 1; i < r.passes.size(); ++i) CHECK(r.passes[i].spp > r.passes[i - 1].spp);
+
+    rs.target_error = 0.0;
+    rs.time_limit = 0.3;
+    const RenderResult t = render(s, cam, rs);
+    CHECK(t.stopped_by == "time");
+
+    rs.time_limit = 0.0;
+    rs.spp = 5;
+    const RenderResult n = render(s, cam, rs);
+    CHECK(n.stopped_by == "spp");
+    CHECK(n.film.spp() == 5);
+}
