@@ -7,6 +7,7 @@
 #include "jade/image_io.h"
 #include "jade/material_volume.h"
 #include "jade/photo.h"
+#include "jade/pipeline.h"
 #include "jade/progress.h"
 #include "jade/render_job.h"
 #include "jade/report.h"
@@ -17,6 +18,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -29,10 +31,10 @@ struct VolumeOptions {
     jade::OpticalParams optics;
 };
 
-void add_volume_flags(CLI::App& cmd, VolumeOptions& o) {
-    cmd.add_option("--photo", o.photo, "Photograph of the material (PNG, JPEG, TIFF, EXR; "
-                                       "alpha >= 0.5 marks the object)")
-        ->required();
+void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = true) {
+    auto* photo = cmd.add_option("--photo", o.photo, "Photograph of the material (PNG, JPEG, TIFF, EXR; "
+                                                     "alpha >= 0.5 marks the object)");
+    if (photo_required) photo->required();
     cmd.add_option("--mask", o.mask, "Mask image, same size as the photo; white (>= 0.5) = "
                                      "object. Replaces the photo's alpha");
     cmd.add_option("--resolution", o.noise.resolution, "Voxels along each side of the cube (s)")
@@ -107,7 +109,8 @@ struct RenderFlags {
     Vec3Flag sigma_s, sigma_a, ks, vdb_albedo, origin, target, up, light_dir;
 };
 
-void add_render_flags(CLI::App& cmd, RenderFlags& f) {
+// The render command's own flags: its medium and mesh.
+void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     jade::RenderJob& j = f.job;
     cmd.add_option("--mesh", j.mesh, "The object's surface (.obj, .gltf, .glb); closed, outward-facing")
         ->required();
@@ -125,6 +128,17 @@ void add_render_flags(CLI::App& cmd, RenderFlags& f) {
                    "Foreign .vdb density grid without a color grid: albedo r,g,b (default 0.9)");
     cmd.add_flag("--flat", j.flat_normals, "Shade the boundary with face normals");
     cmd.add_flag("--allow-open", j.allow_open, "Render a mesh with many open edges anyway");
+    cmd.add_option("--reference", j.reference, "Reference image: RMSE after every pass");
+    cmd.add_option("--out", j.out, "Output .exr (linear RGBA float)")->required();
+    cmd.add_option("--png", j.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
+    cmd.add_option("--convergence", j.convergence,
+                   "Error against time, CSV ('auto': convergence.csv beside --out; '' = none)")
+        ->capture_default_str();
+}
+
+// Boundary, camera, lights and sampling: shared by `render` and the pipeline.
+void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag = "--seed") {
+    jade::RenderJob& j = f.job;
     cmd.add_option("--boundary", f.boundary,
                    "Interface: 'split' (paper: reflect with weight --specular), 'fresnel' (exact), "
                    "'none' (index-matched)")
@@ -166,19 +180,14 @@ void add_render_flags(CLI::App& cmd, RenderFlags& f) {
     cmd.add_option("--target-error", j.settings.target_error,
                    "Estimated relative error to stop at (0 = none)")
         ->capture_default_str();
-    cmd.add_option("--seed", j.settings.seed, "Random seed")->capture_default_str();
+    cmd.add_option(seed_flag, j.settings.seed, "Random seed of the rendering")->capture_default_str();
     cmd.add_option("--max-depth", j.settings.integrator.max_depth,
                    "Most interactions per path; paths cut here are counted as bias")
         ->capture_default_str();
-    cmd.add_option("--reference", j.reference, "Reference image: RMSE after every pass");
-    cmd.add_option("--out", j.out, "Output .exr (linear RGBA float)")->required();
-    cmd.add_option("--png", j.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
-    cmd.add_option("--convergence", j.convergence,
-                   "Error against time, CSV ('auto': convergence.csv beside --out; '' = none)")
-        ->capture_default_str();
 }
 
-int run_render(RenderFlags& f) {
+// Turns the text flags into the job's values (throws jade::Error naming the flag).
+void resolve_flags(RenderFlags& f) {
     jade::RenderJob& j = f.job;
     j.interface.mode = jade::parse_boundary_mode(f.boundary);
     if (f.sigma_s.given()) j.sigma_s = f.sigma_s.value("--sigma-s");
@@ -195,6 +204,11 @@ int run_render(RenderFlags& f) {
     }
     if (f.up.given()) j.camera_up = f.up.value("--camera-up");
     if (f.light_dir.given()) j.light_direction = f.light_dir.value("--light-dir");
+}
+
+int run_render(RenderFlags& f) {
+    resolve_flags(f);
+    jade::RenderJob& j = f.job;
 
     const jade::Stopwatch total;
     jade::RenderJobResult r;
@@ -224,13 +238,96 @@ int run_render(RenderFlags& f) {
     return 0;
 }
 
+struct PipelineFlags {
+    VolumeOptions volume;
+    RenderFlags scene;
+    std::string out_dir, fit = "bisect";
+    Vec3Flag ks_start;
+    jade::PipelineOptions options;
+};
+
+void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
+    add_volume_flags(app, p.volume, /*photo_required=*/false);
+    app.add_option("--mesh", p.scene.job.mesh, "The object's surface (.obj, .gltf, .glb)");
+    app.add_option("--out", p.out_dir, "Output folder (default: <photo name>-jaderender)");
+    app.add_option("--volume", p.options.volume,
+                   "Fit this jaderender .vdb's k_s instead of building a volume from the photo");
+    app.add_flag("--flat", p.scene.job.flat_normals, "Shade the boundary with face normals");
+    app.add_flag("--allow-open", p.scene.job.allow_open, "Use a mesh with many open edges anyway");
+    add_scene_flags(app, p.scene, "--render-seed");
+    jade::PipelineOptions& o = p.options;
+    app.add_option("--fit", p.fit, "k_s driver: 'bisect' (bracket, then bisect), 'step' (the paper's "
+                                   "0.01 steps) or 'none'")
+        ->capture_default_str();
+    app.add_option("--ks", p.ks_start.text, "k_s to start the fit from (or to use with --fit none), r,g,b");
+    app.add_option("--fit-width", o.fit_width, "Width of the fitting renders (0 = a quarter of --width)")
+        ->capture_default_str();
+    app.add_option("--fit-spp", o.fit_spp, "Samples per pixel of the fitting renders (0 = doubled from "
+                                           "16 until A's standard error is below --fit-noise)")
+        ->capture_default_str();
+    app.add_option("--fit-noise", o.fit_noise, "Standard error of A (gray levels) the fitting renders must reach")
+        ->capture_default_str();
+    app.add_option("--fit-max-renders", o.fit_max_renders, "Most fitting renders")->capture_default_str();
+    app.add_option("--ks-max", o.limits.k_max, "Largest k_s the fit tries")->capture_default_str();
+    app.add_option("--exposure", o.exposure, "Render-to-photo exposure factor before the sRGB encoding "
+                                             "(0 = match the photo's mean luminance at the first fitting render)")
+        ->capture_default_str();
+}
+
+int run_pipeline(PipelineFlags& p) {
+    if (p.volume.photo.empty() || p.scene.job.mesh.empty())
+        throw jade::Error("give --photo and --mesh (the whole fit), or a command: volume, render, bench "
+                          "(see --help)");
+    resolve_flags(p.scene);
+    jade::PipelineOptions& o = p.options;
+    o.photo = p.volume.photo;
+    o.mask = p.volume.mask;
+    o.noise = p.volume.noise;
+    o.match = jade::parse_match_mode(p.volume.match);
+    o.optics = p.volume.optics;
+    if (p.ks_start.given()) {
+        const glm::vec3 k = p.ks_start.value("--ks");
+        o.optics.ks = {k.x, k.y, k.z};
+    }
+    o.fit = jade::parse_fit_method(p.fit);
+    o.out_dir = p.out_dir;
+    o.render = p.scene.job;
+    o.progress = true;
+    const jade::PipelineResult r = jade::run_pipeline(o);
+    for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());
+    for (int c = 0; c < 3; ++c)
+        if (r.channel_status[c] != "converged" && r.channel_status[c] != "not fitted")
+            std::fprintf(stderr, "jaderender: warning: fit: %s\n", r.channel_status[c].c_str());
+    const jade::FitRecord* best = r.fit.empty() ? nullptr : &r.fit.back();
+    std::printf("fit (%s): %zu renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); %s\n",
+                p.fit.c_str(), r.fit.size(), best ? best->spp : 0, r.seconds_fit, r.exposure, r.ks[0], r.ks[1], r.ks[2],
+                r.converged ? "|dA| < 1 in every channel" : "NOT converged (see the warnings)");
+    if (best)
+        std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
+                    "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",
+                    best->a_photo[0], best->a_photo[1], best->a_photo[2], best->a_render[0], best->a_render[1],
+                    best->a_render[2], best->delta[0], best->delta[1], best->delta[2], best->a_sigma[0],
+                    best->a_sigma[1], best->a_sigma[2]);
+    const jade::PassRecord& last = r.final_render.passes.back();
+    std::printf("final render: %d spp in %.1f s, estimated relative error %.4f\n", last.spp,
+                r.final_render.seconds, last.estimated_error);
+    std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, final render %.2f, writing %.2f; total %.1f; "
+                "peak memory %s\n",
+                r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_render, r.seconds_write,
+                r.seconds_total, jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
+    std::printf("outputs in %s/:", r.out_dir.c_str());
+    for (const auto& f : r.written) std::printf(" %s", std::filesystem::path(f).filename().c_str());
+    std::printf("\n");
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
                  "materials (jade, marble) from one photograph"};
     app.set_version_flag("--version", std::string(JADE_VERSION));
-    app.require_subcommand(1);
+    app.require_subcommand(0, 1);
     app.fallthrough();  // --threads may also follow the subcommand
 
     VolumeOptions vol;
@@ -246,7 +343,11 @@ int main(int argc, char** argv) {
     auto* render_cmd = app.add_subcommand(
         "render", "Render a medium (a saved volume, a foreign .vdb or a homogeneous one) inside a "
                   "mesh's dielectric boundary");
-    add_render_flags(*render_cmd, render_flags);
+    add_medium_flags(*render_cmd, render_flags);
+    add_scene_flags(*render_cmd, render_flags);
+
+    PipelineFlags pipeline;
+    add_pipeline_flags(app, pipeline);
 
     int threads = 0;
     app.add_option("--threads", threads, "Worker threads (0 = all cores); results do not depend on it")
@@ -301,6 +402,7 @@ int main(int argc, char** argv) {
             tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 
     try {
+        if (app.get_subcommands().empty()) return run_pipeline(pipeline);
         if (*volume_cmd) return run_volume(vol);
         if (*render_cmd) return run_render(render_flags);
         if (*bench_volume) return jade::run_volume_benchmark(bench);

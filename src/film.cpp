@@ -113,7 +113,7 @@ ReferenceError compare_with_reference(const Film& film, const ImageF32& ref) {
 namespace jade {
 
 void write_film(const Film& film, const std::string& exr_path, const std::string& png_path,
-                bool alpha_is_coverage) {
+                bool alpha_is_coverage, float png_exposure) {
     const std::vector<float> rgba = film.rgba(alpha_is_coverage);
     std::vector<std::uint8_t> png;
     if (!png_path.empty()) {
@@ -122,7 +122,8 @@ void write_film(const Film& film, const std::string& exr_path, const std::string
             const float a = rgba[i + 3];
             for (int c = 0; c < 3; ++c) {
                 // With coverage alpha the film holds colour × coverage; PNG wants it straight.
-                const float straight = alpha_is_coverage && a > 0.f ? rgba[i + c] / a : rgba[i + c];
+                const float straight =
+                    png_exposure * (alpha_is_coverage && a > 0.f ? rgba[i + c] / a : rgba[i + c]);
                 png[i + c] = std::uint8_t(std::lround(255.f * srgb_encode(std::clamp(straight, 0.f, 1.f))));
             }
             png[i + 3] = std::uint8_t(std::lround(255.f * std::clamp(a, 0.f, 1.f)));

@@ -52,20 +52,13 @@ bool parse_colour(const std::string& text, Spectrum& out) {
     return is_finite(out);
 }
 
-RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
-                               const std::function<void(const PassRecord&)>& on_pass) {
-    job.settings.validate();
+std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
     job.interface.validate();
-    if (job.out.empty()) throw Error("--out is required");
-    if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
-        throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
-    require_output_folder(job.out);
-    RenderJobResult result;
-    const Stopwatch load_clock;
+    auto prep = std::make_unique<PreparedScene>();
 
     // Boundary.
-    const TriangleMesh mesh = load_mesh(job.mesh);
-    const MeshTopology topo = mesh_topology(mesh);
+    prep->mesh = load_mesh(job.mesh);
+    const MeshTopology topo = mesh_topology(prep->mesh);
     if (!topo.closed()) {
         const double share = double(topo.boundary_edges + topo.nonmanifold_edges) / double(topo.edges);
         std::ostringstream w;
@@ -78,10 +71,60 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
                                     " of " + std::to_string(topo.edges) +
                                     " edges border a hole), so its inside is undefined; close it "
                                     "or pass --allow-open");
-        result.warnings.push_back(w.str());
+        prep->warnings.push_back(w.str());
     }
-    const MeshAccel accel(mesh, job.flat_normals);
-    const Cube cube = bounding_cube(mesh);
+    prep->accel = std::make_unique<MeshAccel>(prep->mesh, job.flat_normals);
+    prep->cube = bounding_cube(prep->mesh);
+
+    // Lights.
+    Scene& scene = prep->scene;
+    scene.boundary = prep->accel.get();
+    scene.interface = job.interface;
+    scene.phase = PhaseFunction(job.g);
+    scene.light = DirectionalLight(job.light_direction, job.light_irradiance, job.light_radius_degrees);
+    Spectrum env;
+    if (parse_colour(job.environment, env)) {
+        scene.environment = Environment(env * job.environment_scale);
+    } else {
+        scene.environment = Environment(read_image_f32(job.environment), job.environment_scale);
+    }
+    if (!job.background.empty()) {
+        prep->background.emplace(read_image_f32(job.background));
+        scene.background = &*prep->background;
+    }
+    scene.transparent = job.transparent;
+    scene.fit_ray_epsilon();
+
+    // Camera.
+    CameraParams cam = frame_mesh(prep->mesh.bounds(), job.width, job.height, job.fov_degrees);
+    if (!job.camera_file.empty()) {
+        if (job.camera_origin || job.camera_target_given)
+            throw Error("--camera-file cannot be combined with --camera-origin/--camera-target");
+        cam = camera_from_file(load_gltf_camera(job.camera_file), job.width, job.height);
+    }
+    if (job.camera_origin) {
+        cam.origin = *job.camera_origin;
+        cam.up = job.camera_up;
+        if (!job.camera_target_given) cam.target = prep->mesh.bounds().centre();
+    }
+    if (job.camera_target_given) cam.target = job.camera_target;
+    cam.validate();
+    prep->camera = cam;
+    return prep;
+}
+
+RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
+                               const std::function<void(const PassRecord&)>& on_pass) {
+    job.settings.validate();
+    if (job.out.empty()) throw Error("--out is required");
+    if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
+        throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
+    require_output_folder(job.out);
+    RenderJobResult result;
+    const Stopwatch load_clock;
+    const std::unique_ptr<PreparedScene> prep = prepare_scene(job);
+    result.warnings = prep->warnings;
+    const Cube& cube = prep->cube;
 
     // Medium.
     std::unique_ptr<Medium> medium;
@@ -91,14 +134,13 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
             volume = read_material_vdb(job.volume);
             if (job.ks) volume.optics.ks = {(*job.ks)[0], (*job.ks)[1], (*job.ks)[2]};
             volume.optics.validate();
-            auto m = std::make_unique<MaterialVolumeMedium>(volume, cube);
             char text[256];
             std::snprintf(text, sizeof text,
                           "jaderender volume %d^3 on the mesh's cube (side %.4g), k_s (%.3f, %.3f, %.3f)",
                           volume.resolution, cube.side, volume.optics.ks[0], volume.optics.ks[1],
                           volume.optics.ks[2]);
             result.medium_description = text;
-            medium = std::move(m);
+            medium = std::make_unique<MaterialVolumeMedium>(volume, cube);
         } else {
             if (job.ks) fail_file(job.volume, "--ks applies to jaderender volumes only");
             CoefficientGrids grids = read_medium_vdb(job.volume, job.density);
@@ -117,42 +159,8 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         result.medium_description = text;
     }
     result.medium_bytes = medium->memory_bytes();
-
-    // Lights.
-    Scene scene;
-    scene.boundary = &accel;
-    scene.medium = medium.get();
-    scene.interface = job.interface;
-    scene.phase = PhaseFunction(job.g);
-    scene.light = DirectionalLight(job.light_direction, job.light_irradiance, job.light_radius_degrees);
-    Spectrum env;
-    if (parse_colour(job.environment, env)) {
-        scene.environment = Environment(env * job.environment_scale);
-    } else {
-        scene.environment = Environment(read_image_f32(job.environment), job.environment_scale);
-    }
-    std::optional<Background> background;
-    if (!job.background.empty()) {
-        background.emplace(read_image_f32(job.background));
-        scene.background = &*background;
-    }
-    scene.transparent = job.transparent;
-    scene.fit_ray_epsilon();
-
-    // Camera.
-    CameraParams cam = frame_mesh(mesh.bounds(), job.width, job.height, job.fov_degrees);
-    if (!job.camera_file.empty()) {
-        if (job.camera_origin || job.camera_target_given)
-            throw Error("--camera-file cannot be combined with --camera-origin/--camera-target");
-        cam = camera_from_file(load_gltf_camera(job.camera_file), job.width, job.height);
-    }
-    if (job.camera_origin) {
-        cam.origin = *job.camera_origin;
-        cam.up = job.camera_up;
-        if (!job.camera_target_given) cam.target = mesh.bounds().centre();
-    }
-    if (job.camera_target_given) cam.target = job.camera_target;
-    const PinholeCamera camera(cam);
+    prep->scene.medium = medium.get();
+    const PinholeCamera camera(prep->camera);
 
     std::optional<ImageF32> reference;
     RenderSettings settings = job.settings;
@@ -166,7 +174,7 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     }
     result.load_seconds = load_clock.seconds();
 
-    result.render = render(scene, camera, settings, progress, on_pass);
+    result.render = render(prep->scene, camera, settings, progress, on_pass);
     if (progress) progress->finish();
 
     const std::string png = job.png == "auto" ? sibling(job.out, ".png") : job.png;

@@ -371,3 +371,7 @@ CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversio
 }
 
 }  // namespace jade
+
+namespace jade {
+const char* openvdb_version() { return openvdb::getLibraryVersionString(); }
+}  // namespace jade

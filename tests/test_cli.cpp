@@ -225,3 +225,91 @@ TEST_CASE("render: an open mesh is rendered with a warning, a badly open one ref
                                 Catch::Contains("4 open"));
     CHECK(std::filesystem::exists(dir.file("r.exr")));
 }
+
+// ---------------------------------------------------------------------------
+// jaderender --photo P --mesh M: the whole fit
+
+namespace {
+
+const std::string kCow = std::string(JADE_DATA_DIR) + "/meshes/spot-cow.obj";
+// Small and quick: a 32^3 volume, 48x48 renders.
+const std::string kSmall = " --resolution 32 --width 48 --height 48 --spp 8 --fit-width 48 --fit-spp 16 ";
+
+std::string json_field(const std::string& json, const std::string& key) {
+    const auto at = json.find("\"" + key + "\"");
+    if (at == std::string::npos) return "";
+    const auto colon = json.find(':', at);
+    const auto end = json.find_first_of(",\n}", colon);
+    return json.substr(colon + 1, end - colon - 1);
+}
+
+}  // namespace
+
+TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly", "[cli][fit]") {
+    TempDir dir;
+    const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 3 --out " +
+                                  dir.file("o"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv",
+                          "compare.png", "report.json"})
+        CHECK(std::filesystem::exists(dir.file(std::string("o/") + f)));
+    CHECK(csv_rows(dir.file("o/fit.csv")).size() == 4);  // header + 3 renders (the cap)
+    // The saved volume carries the fitted k_s: render it with another mesh.
+    CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
+                       " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);
+    CHECK_FALSE(json_field(slurp(dir.file("o/report.json")), "total").empty());
+
+    const std::string base = "--photo " + photo + " --mesh " + kCow + kSmall;
+    struct Bad {
+        std::string args, names;
+    };
+    const Bad bad[] = {
+        {"--mesh " + kCow + " --out " + dir.file("b"), "--photo"},
+        {"--photo " + photo + " --out " + dir.file("b"), "--mesh"},
+        {base + " --fit newton --out " + dir.file("b"), "--fit"},
+        {base + " --out " + dir.file("no/such/b"), "does not exist"},
+        {base + " --fit-max-renders 0 --out " + dir.file("b"), "--fit-max-renders"},
+    };
+    for (const Bad& b : bad) {
+        INFO("jaderender " << b.args);
+        const Result e = run(dir, b.args);
+        CHECK(e.code == 2);
+        CHECK(lines(e.err) == 1);
+        CHECK_THAT(e.err, Catch::Contains(b.names));
+        CHECK_FALSE(std::filesystem::exists(dir.file("b")));
+    }
+}
+
+TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained results", "[cli][fit]") {
+    TempDir dir;
+    struct Photo {
+        const char* name;
+        std::uint8_t r, g, b;
+        double foreground;  // share of pixels with alpha 255
+    };
+    const Photo photos[] = {{"flat", 120, 160, 110, 1.0}, {"tiny", 200, 150, 100, 0.02},
+                            {"dark", 6, 5, 4, 1.0},        {"white", 252, 253, 254, 1.0}};
+    for (const Photo& p : photos) {
+        INFO(p.name);
+        const int w = 50, h = 50;
+        std::vector<std::uint8_t> px;
+        for (int i = 0; i < w * h; ++i) {
+            const bool fg = (i % w) < int(std::lround(p.foreground * w)) && (i / w) < int(std::lround(std::max(1.0, p.foreground * h * 50)));
+            px.insert(px.end(), {p.r, p.g, p.b, std::uint8_t(fg ? 255 : 0)});
+        }
+        const std::string path = dir.file(std::string(p.name) + ".png");
+        jade::write_image_u8(path, w, h, 4, px);
+        const Result r = run(dir, "--photo " + path + " --mesh " + kCow + kSmall + " --fit-max-renders 12 --out " +
+                                      dir.file(std::string(p.name) + "-out"));
+        INFO(r.out << r.err);
+        CHECK(r.code == 0);
+        CHECK(std::filesystem::exists(dir.file(std::string(p.name) + "-out/report.json")));
+        // Either converged, or every channel that did not says why.
+        if (r.out.find("NOT converged") != std::string::npos)
+            CHECK_THAT(r.err, Catch::Contains("warning: fit:"));
+        else
+            CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
+    }
+}

@@ -65,7 +65,8 @@ namespace jade {
 // alpha as OpenEXR expects; alpha = coverage when `alpha_is_coverage`, else 1)
 // and, when png_path is not empty, as 8-bit sRGB RGBA (unassociated, as PNG
 // expects). Each file is written whole or not at all.
+// The PNG is display-encoded after multiplying by `png_exposure`.
 void write_film(const Film& film, const std::string& exr_path, const std::string& png_path,
-                bool alpha_is_coverage);
+                bool alpha_is_coverage, float png_exposure = 1.f);
 
 }  // namespace jade

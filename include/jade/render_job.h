@@ -5,10 +5,13 @@
 
 #include "jade/camera.h"
 #include "jade/dielectric.h"
+#include "jade/mesh_accel.h"
+#include "jade/scene.h"
 #include "jade/renderer.h"
 #include "jade/vdb_io.h"
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -69,6 +72,21 @@ struct RenderJobResult {
 // or not at all). Throws jade::Error with one line naming the bad input.
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress = nullptr,
                                const std::function<void(const PassRecord&)>& on_pass = nullptr);
+
+// What a scene references, owned in one place: the mesh and its BVH, the
+// background image, the scene (lights, boundary; its medium left to the
+// caller) and the camera's parameters.
+struct PreparedScene {
+    TriangleMesh mesh;
+    std::unique_ptr<MeshAccel> accel;
+    Cube cube;                            // the mesh's bounding cube, where a volume goes
+    std::optional<Background> background;
+    Scene scene;
+    CameraParams camera;
+    std::vector<std::string> warnings;    // e.g. an open mesh
+};
+// Loads and checks the mesh, lights and camera of a job (not its medium).
+std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job);
 
 // Parses "v" or "r,g,b" into a colour; false when it is neither.
 bool parse_colour(const std::string& text, Spectrum& out);

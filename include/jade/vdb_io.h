@@ -52,3 +52,8 @@ struct DensityConversion {
 CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversion& conversion);
 
 }  // namespace jade
+
+namespace jade {
+// The OpenVDB library version this build reads and writes with.
+const char* openvdb_version();
+}  // namespace jade

@@ -1,0 +1,95 @@
+#pragma once
+// Fitting k_s to the photo (paper §5.4, DESIGN §9): the render's brightness in
+// the photo's display space, and drivers that move each channel's k_s until
+// it matches the photo's.
+//
+//   A(κ) = Σ_i i · H(i, κ), gray levels 0..255, over the object's pixels
+//   ΔA(κ) = A_render(κ) − A_photo(κ); goal |ΔA(κ)| < Δd = 1 gray level
+//
+// Brightness grows with k_s (more scattering, higher albedo), so a render
+// brighter than the photo lowers k_s (the paper's Algorithm 2 prints the sign
+// reversed; its text is right).
+
+#include "jade/film.h"
+#include "jade/histogram.h"
+#include "jade/photo.h"
+
+#include <array>
+#include <string>
+
+namespace jade {
+
+// The render as the photo's camera would have recorded it: linear radiance ×
+// exposure → sRGB → 8-bit, over the pixels the object covers (coverage ≥ 0.5).
+struct DisplayStatistics {
+    RgbHistogram histogram;
+    std::array<double, 3> a{};        // A(κ)
+    std::array<double, 3> a_sigma{};  // standard error of A(κ) from the film's per-pixel variance
+    std::size_t pixels = 0;
+};
+DisplayStatistics display_statistics(const Film& film, float exposure);
+
+// The exposure that gives the render's object pixels the photo's mean linear
+// luminance (Rec. 709 weights): the photo's absolute exposure is unknown, so
+// by default the fit matches it once, at its first render, and lets k_s
+// match each channel from there.
+float matching_exposure(const Film& film, const Photo& photo);
+
+enum class FitMethod { Step, Bisect, None };
+const char* to_string(FitMethod m);
+FitMethod parse_fit_method(const std::string& name);  // throws jade::Error
+
+enum class ChannelState { Searching, Converged, Unreachable };
+
+struct FitLimits {
+    std::array<double, 3> k_min{};  // smallest k_s per channel: σ_s ≥ 0 in every voxel
+    double k_max = 20.0;            // largest k_s tried (paper units)
+    double step = 0.01;             // the paper's Δk
+    double tolerance = 1.0;         // Δd, gray levels
+};
+
+// Per-channel search for the k_s where ΔA changes sign, fed one measurement
+// of ΔA for all three channels at a time (one render). Every channel searches
+// independently; a channel that has converged or proved unreachable keeps its k_s.
+//
+//   step    the paper's driver: k -= Δk · sign(ΔA) after every render.
+//   bisect  (default) steps outward from the start, doubling the step, until
+//           ΔA changes sign, then shrinks that bracket by bisection. The first
+//           step is the larger of Δk and a secant estimate from the last two
+//           renders, so a nearly linear A(k) is bracketed in two or three renders.
+class FitDriver {
+public:
+    FitDriver(FitMethod method, const std::array<double, 3>& k_start, const FitLimits& limits);
+
+    // The k_s to render next.
+    const std::array<double, 3>& k() const { return k_; }
+    // ΔA measured at k(); moves each searching channel on.
+    void observe(const std::array<double, 3>& delta_a);
+    bool done() const;
+    ChannelState state(int c) const { return channel_[c].state; }
+    // Why a channel stopped (empty while searching).
+    const std::string& reason(int c) const { return channel_[c].reason; }
+    // The k_s with the smallest |ΔA| seen per channel, and that |ΔA|.
+    const std::array<double, 3>& best_k() const { return best_k_; }
+    const std::array<double, 3>& best_abs_delta() const { return best_abs_; }
+
+private:
+    struct Channel {
+        ChannelState state = ChannelState::Searching;
+        std::string reason;
+        bool have_prev = false;
+        double prev_k = 0, prev_delta = 0;
+        double step = 0;
+        bool bracketed = false;
+        double lo = 0, hi = 0;  // ΔA(lo) < 0 < ΔA(hi)
+    };
+    void observe_channel(int c, double delta);
+
+    FitMethod method_;
+    FitLimits limits_;
+    std::array<double, 3> k_;
+    std::array<Channel, 3> channel_;
+    std::array<double, 3> best_k_, best_abs_;
+};
+
+}  // namespace jade

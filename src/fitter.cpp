@@ -1,0 +1,197 @@
+#include "jade/fitter.h"
+
+#include "jade/error.h"
+#include "jade/photo.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace jade {
+
+namespace {
+const char* kChannel[3] = {"red", "green", "blue"};
+}
+
+DisplayStatistics display_statistics(const Film& film, float exposure) {
+    DisplayStatistics s;
+    std::vector<Rgb8> colours;
+    std::array<double, 3> var_sum{};
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const float cov = film.coverage(x, y);
+            if (cov < 0.5f) continue;
+            // The object's own colour: a pixel the object only partly covers
+            // holds colour × coverage when the background is left out.
+            const Spectrum m = film.mean(x, y) * (exposure / cov);
+            const Spectrum v = film.variance_of_mean(x, y);
+            Rgb8 level;
+            for (int c = 0; c < 3; ++c) {
+                const double lin = std::clamp(double(m[c]), 0.0, 1.0);
+                const double enc = srgb_encode(lin);
+                level[c] = std::uint8_t(std::lround(255.0 * enc));
+                // Delta method: Var[255 · srgb(e · x / cov)] ≈ (255 · srgb'(.) · e / cov)² Var[x].
+                const double h = 1e-4;
+                const double slope =
+                    lin >= 1.0 ? 0.0
+                               : 255.0 * (srgb_encode(std::min(1.0, lin + h)) - srgb_encode(std::max(0.0, lin - h))) /
+                                     (std::min(1.0, lin + h) - std::max(0.0, lin - h));
+                const double g = slope * exposure / cov;
+                if (std::isfinite(v[c])) var_sum[c] += g * g * v[c];
+            }
+            colours.push_back(level);
+        }
+    s.pixels = colours.size();
+    s.histogram = RgbHistogram::of(colours);
+    for (int c = 0; c < 3; ++c) {
+        s.a[c] = s.pixels ? s.histogram.mean(c) : 0.0;
+        s.a_sigma[c] = s.pixels ? std::sqrt(var_sum[c]) / double(s.pixels) : 0.0;
+    }
+    return s;
+}
+
+float matching_exposure(const Film& film, const Photo& photo) {
+    auto luminance = [](double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; };
+    double photo_sum = 0;
+    std::size_t photo_n = 0;
+    for (std::size_t i = 0; i < photo.levels.size(); ++i) {
+        if (!photo.foreground[i]) continue;
+        const Rgb8& c = photo.levels[i];
+        photo_sum += luminance(srgb_decode(c[0] / 255.0), srgb_decode(c[1] / 255.0), srgb_decode(c[2] / 255.0));
+        ++photo_n;
+    }
+    double render_sum = 0;
+    std::size_t render_n = 0;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const float cov = film.coverage(x, y);
+            if (cov < 0.5f) continue;
+            const Spectrum m = film.mean(x, y) / cov;
+            render_sum += luminance(m.x, m.y, m.z);
+            ++render_n;
+        }
+    if (photo_n == 0 || render_n == 0 || !(render_sum > 0)) return 1.f;
+    return float((photo_sum / double(photo_n)) / (render_sum / double(render_n)));
+}
+
+const char* to_string(FitMethod m) {
+    switch (m) {
+    case FitMethod::Step: return "step";
+    case FitMethod::Bisect: return "bisect";
+    case FitMethod::None: return "none";
+    }
+    return "?";
+}
+
+FitMethod parse_fit_method(const std::string& name) {
+    if (name == "step") return FitMethod::Step;
+    if (name == "bisect") return FitMethod::Bisect;
+    if (name == "none") return FitMethod::None;
+    throw Error("--fit must be 'bisect', 'step' or 'none', not '" + name + "'");
+}
+
+FitDriver::FitDriver(FitMethod method, const std::array<double, 3>& k_start, const FitLimits& limits)
+    : method_(method), limits_(limits), k_(k_start) {
+    for (int c = 0; c < 3; ++c) {
+        k_[c] = std::clamp(k_[c], limits.k_min[c], limits.k_max);
+        best_k_[c] = k_[c];
+        best_abs_[c] = std::numeric_limits<double>::infinity();
+        channel_[c].step = limits.step;
+        if (method == FitMethod::None) {
+            channel_[c].state = ChannelState::Converged;
+            channel_[c].reason = "not fitted (--fit none)";
+        }
+    }
+}
+
+bool FitDriver::done() const {
+    return std::all_of(channel_.begin(), channel_.end(),
+                       [](const Channel& ch) { return ch.state != ChannelState::Searching; });
+}
+
+void FitDriver::observe(const std::array<double, 3>& delta_a) {
+    for (int c = 0; c < 3; ++c)
+        if (channel_[c].state == ChannelState::Searching) observe_channel(c, delta_a[c]);
+}
+
+void FitDriver::observe_channel(int c, double delta) {
+    Channel& ch = channel_[c];
+    const double k = k_[c];
+    if (std::abs(delta) < best_abs_[c]) {
+        best_abs_[c] = std::abs(delta);
+        best_k_[c] = k;
+    }
+    if (std::abs(delta) < limits_.tolerance) {
+        ch.state = ChannelState::Converged;
+        return;
+    }
+    const double dir = delta > 0 ? -1.0 : 1.0;  // brighter than the photo: lower k_s
+    // At a bound, still on the same side: no k_s in range reaches the photo.
+    if (dir < 0 && k <= limits_.k_min[c] + 1e-12) {
+        ch.state = ChannelState::Unreachable;
+        ch.reason = std::string(kChannel[c]) + ": the render is brighter than the photo even without " +
+                    "scattering offset (k_s at its minimum, where sigma_s reaches 0): the photo is darker "
+                    "than the material's absorption allows; raise --da or --density-scale";
+        return;
+    }
+    if (dir > 0 && k >= limits_.k_max - 1e-12) {
+        ch.state = ChannelState::Unreachable;
+        ch.reason = std::string(kChannel[c]) + ": the render is darker than the photo even at k_s = " +
+                    std::to_string(limits_.k_max) + ": the photo is brighter than any albedo the "
+                    "material allows under this light; raise the light or lower --da";
+        return;
+    }
+
+    if (method_ == FitMethod::Step) {
+        // A sign change between two steps of Δk means the goal lies between
+        // grid points the paper's step cannot land on.
+        if (ch.have_prev && (ch.prev_delta > 0) != (delta > 0)) {
+            ch.state = ChannelState::Unreachable;
+            ch.reason = std::string(kChannel[c]) + ": one step of " + std::to_string(limits_.step) +
+                        " moves A by more than " + std::to_string(2 * limits_.tolerance) +
+                        " gray levels, so the step driver cannot meet |dA| < " +
+                        std::to_string(limits_.tolerance) + "; the best k_s is kept (try --fit bisect)";
+            return;
+        }
+        ch.have_prev = true;
+        ch.prev_k = k;
+        ch.prev_delta = delta;
+        k_[c] = std::clamp(k + dir * limits_.step, limits_.k_min[c], limits_.k_max);
+        return;
+    }
+
+    // Bisect: first find a bracket, then halve it.
+    if (!ch.bracketed && ch.have_prev && (ch.prev_delta > 0) != (delta > 0)) {
+        ch.bracketed = true;
+        ch.lo = delta < 0 ? k : ch.prev_k;
+        ch.hi = delta < 0 ? ch.prev_k : k;
+    } else if (ch.bracketed) {
+        (delta < 0 ? ch.lo : ch.hi) = k;
+    }
+    if (ch.bracketed) {
+        if (ch.hi - ch.lo < 1e-6) {
+            ch.state = ChannelState::Unreachable;
+            ch.reason = std::string(kChannel[c]) + ": A jumps across the goal within k_s +- 1e-6 (render " +
+                        "noise or 8-bit quantisation); the best k_s is kept (raise --fit-spp)";
+            return;
+        }
+        k_[c] = 0.5 * (ch.lo + ch.hi);
+    } else {
+        double step = ch.step;
+        if (ch.have_prev && delta != ch.prev_delta) {
+            // Secant estimate of the distance to the root, overshot by half so
+            // that the next render lands past it and closes the bracket.
+            const double slope = (delta - ch.prev_delta) / (k - ch.prev_k);
+            // Capped at 8 doubling steps' worth: where A flattens out the
+            // secant would leap far past the root.
+            if (slope > 0) step = std::max(step, std::min(1.5 * std::abs(delta / slope), 8 * step));
+        }
+        ch.have_prev = true;
+        ch.prev_k = k;
+        ch.prev_delta = delta;
+        ch.step = 2 * step;
+        k_[c] = std::clamp(k + dir * step, limits_.k_min[c], limits_.k_max);
+    }
+}
+
+}  // namespace jade
