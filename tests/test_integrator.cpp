@@ -338,3 +338,31 @@ TEST_CASE("progressive rendering stops at the target error, the time budget or t
     CHECK(n.stopped_by == "spp");
     CHECK(n.film.spp() == 5);
 }
+
+TEST_CASE("the directional light's two estimators agree: next-event estimation and hitting its disc",
+          "[integrator][render]") {
+    // With an index-matched boundary the light is counted by shadow rays from
+    // every medium vertex; through a Fresnel boundary of IOR 1 (which never
+    // reflects and never bends) only by paths that leave inside its disc.
+    // Same physics, independent estimators.
+    const MeshAccel accel(sphere());
+    const HomogeneousMedium medium(Spectrum(2.f, 6.f, 10.f), Spectrum(0.1f, 0.3f, 0.05f));
+    const PinholeCamera cam = camera_at({0, 0, 4}, {0, 0, 0}, 40, 32);
+    Scene nee = basic_scene(accel, &medium, BoundaryMode::None, Spectrum(0.f));
+    nee.light = DirectionalLight({0.3f, 0.8f, 0.5f}, 3.f, 20.f);
+    Scene hit = nee;
+    hit.interface.mode = BoundaryMode::Fresnel;
+    hit.interface.ior = 1.f;
+    const RenderResult a = render_spp(nee, cam, 256, 5);
+    const RenderResult b = render_spp(hit, cam, 1024, 6);
+    jade_test::Expected e;
+    e.width = e.height = 32;
+    e.value = [&](int x, int y, int c) { return double(a.film.mean(x, y)[c]); };
+    e.variance = [&](int x, int y, int c) { return double(a.film.variance_of_mean(x, y)[c]); };
+    const auto z = jade_test::block_z_scores(b.film, e, 8);
+    INFO(z);
+    CHECK(z.max_abs_z < 4.5);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
+    // And the light matters: the image is not black.
+    CHECK(a.film.mean(16, 16).x > 0.01f);
+}
