@@ -50,28 +50,38 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
     return s;
 }
 
-float matching_exposure(const Film& film, const Photo& photo) {
-    auto luminance = [](double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; };
-    double photo_sum = 0;
-    std::size_t photo_n = 0;
+Spectrum photo_mean_linear(const Photo& photo) {
+    double sum[3] = {0, 0, 0};
+    std::size_t n = 0;
     for (std::size_t i = 0; i < photo.levels.size(); ++i) {
         if (!photo.foreground[i]) continue;
-        const Rgb8& c = photo.levels[i];
-        photo_sum += luminance(srgb_decode(c[0] / 255.0), srgb_decode(c[1] / 255.0), srgb_decode(c[2] / 255.0));
-        ++photo_n;
+        for (int c = 0; c < 3; ++c) sum[c] += srgb_decode(photo.levels[i][c] / 255.0);
+        ++n;
     }
-    double render_sum = 0;
-    std::size_t render_n = 0;
+    if (n == 0) return Spectrum(0.f);
+    return Spectrum(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+}
+
+Spectrum object_mean_linear(const Film& film) {
+    double sum[3] = {0, 0, 0};
+    std::size_t n = 0;
     for (int y = 0; y < film.height(); ++y)
         for (int x = 0; x < film.width(); ++x) {
             const float cov = film.coverage(x, y);
             if (cov < 0.5f) continue;
             const Spectrum m = film.mean(x, y) / cov;
-            render_sum += luminance(m.x, m.y, m.z);
-            ++render_n;
+            for (int c = 0; c < 3; ++c) sum[c] += m[c];
+            ++n;
         }
-    if (photo_n == 0 || render_n == 0 || !(render_sum > 0)) return 1.f;
-    return float((photo_sum / double(photo_n)) / (render_sum / double(render_n)));
+    if (n == 0) return Spectrum(0.f);
+    return Spectrum(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+}
+
+float matching_exposure(const Film& film, const Photo& photo) {
+    auto luminance = [](const Spectrum& s) { return 0.2126 * s.x + 0.7152 * s.y + 0.0722 * s.z; };
+    const double render = luminance(object_mean_linear(film));
+    if (!(render > 0)) return 1.f;
+    return float(luminance(photo_mean_linear(photo)) / render);
 }
 
 const char* to_string(FitMethod m) {
@@ -112,6 +122,35 @@ bool FitDriver::done() const {
 void FitDriver::observe(const std::array<double, 3>& delta_a) {
     for (int c = 0; c < 3; ++c)
         if (channel_[c].state == ChannelState::Searching) observe_channel(c, delta_a[c]);
+}
+
+void FitDriver::observe_bounds(const std::array<double, 3>& at_min, const std::array<double, 3>& at_max) {
+    for (int c = 0; c < 3; ++c) {
+        Channel& ch = channel_[c];
+        if (ch.state != ChannelState::Searching) continue;
+        for (const auto& [k, delta] : {std::pair{limits_.k_min[c], at_min[c]}, std::pair{limits_.k_max, at_max[c]}})
+            if (std::abs(delta) < best_abs_[c]) {
+                best_abs_[c] = std::abs(delta);
+                best_k_[c] = k;
+            }
+        if (best_abs_[c] < limits_.tolerance) {
+            ch.state = ChannelState::Converged;
+            k_[c] = best_k_[c];
+            continue;
+        }
+        if (at_min[c] > 0) {  // brighter than the photo at the smallest k_s
+            k_[c] = limits_.k_min[c];
+            observe_channel(c, at_min[c]);  // reports it unreachable
+        } else if (at_max[c] < 0) {  // darker at the largest
+            k_[c] = limits_.k_max;
+            observe_channel(c, at_max[c]);
+        } else {
+            ch.bracketed = true;
+            ch.lo = limits_.k_min[c];
+            ch.hi = limits_.k_max;
+            k_[c] = 0.5 * (ch.lo + ch.hi);
+        }
+    }
 }
 
 void FitDriver::observe_channel(int c, double delta) {

@@ -77,6 +77,8 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     o.optics.validate();
     o.render.settings.validate();
     if (o.fit_max_renders < 1) throw Error("--fit-max-renders must be at least 1");
+    if (o.fit_max_renders < 2 && (o.fit == FitMethod::Bisect || o.exposure == 0.f))
+        throw Error("--fit-max-renders must be at least 2: the fit starts with renders at both k_s bounds");
     if (!(o.fit_noise > 0)) throw Error("--fit-noise must be positive");
     if (!(o.exposure >= 0) || !std::isfinite(o.exposure))
         throw Error("--exposure must be positive (or 0: matched to the photo)");
@@ -121,7 +123,9 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     }
 
     // Fitting renders: no background (the object's pixels are all that count),
-    // a reduced image, the same random sequence every time.
+    // a reduced image, the same random sequence every time, and one majorant
+    // (that of k_s = k_max) for all of them, so that every render makes the
+    // same tentative collisions and A(k_s) changes smoothly with k_s.
     clock = Stopwatch();
     Scene fit_scene = prep->scene;
     fit_scene.transparent = true;
@@ -133,13 +137,15 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     fit_settings.target_error = 0;
     fit_settings.reference = nullptr;
     int fit_spp = o.fit_spp;
+    volume.optics.ks = {limits.k_max, limits.k_max, limits.k_max};
+    const Spectrum shared_majorant = MaterialVolumeMedium(volume, volume.cube).majorant();
 
     const std::array<double, 3> ks_start = o.optics.ks;
     FitDriver driver(o.fit, ks_start, limits);
     float exposure = o.exposure;
     auto render_at = [&](const std::array<double, 3>& ks, int spp) {
         volume.optics.ks = ks;
-        const MaterialVolumeMedium medium(volume, volume.cube);
+        const MaterialVolumeMedium medium(volume, volume.cube, shared_majorant);
         fit_scene.medium = &medium;
         fit_settings.spp = spp;
         return render(fit_scene, fit_camera, fit_settings);
@@ -147,33 +153,32 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     std::unique_ptr<Progress> fit_bar;
     if (o.progress && o.fit != FitMethod::None)
         fit_bar = std::make_unique<Progress>("fitting k_s", std::size_t(o.fit_max_renders));
-    for (int it = 0; o.fit != FitMethod::None && !driver.done() && it < o.fit_max_renders; ++it) {
-        const std::array<double, 3> ks = driver.k();
+    // One fitting render at ks; the first chooses the sample count (doubled
+    // from 16 until A's standard error is below fit_noise in every channel,
+    // measured at the photo's mean luminance).
+    auto fitting_render = [&](const std::array<double, 3>& ks) {
         RenderResult r;
-        DisplayStatistics st;
         if (fit_spp == 0) {
-            // The first render chooses the sample count: doubled until the
-            // standard error of A is below fit_noise in every channel.
             for (int spp = 16;; spp *= 2) {
                 r = render_at(ks, spp);
-                if (o.exposure == 0.f) exposure = matching_exposure(r.film, photo);
-                st = display_statistics(r.film, exposure);
+                const DisplayStatistics st =
+                    display_statistics(r.film, exposure > 0 ? exposure : matching_exposure(r.film, photo));
                 if (st.pixels == 0)
                     throw Error("the object covers no pixel of the fitting render; check the camera");
-                const double worst = std::max({st.a_sigma[0], st.a_sigma[1], st.a_sigma[2]});
-                if (worst <= o.fit_noise || spp >= 4096) {
+                if (std::max({st.a_sigma[0], st.a_sigma[1], st.a_sigma[2]}) <= o.fit_noise || spp >= 4096) {
                     fit_spp = spp;
                     break;
                 }
             }
         } else {
             r = render_at(ks, fit_spp);
-            if (it == 0 && o.exposure == 0.f) exposure = matching_exposure(r.film, photo);
-            st = display_statistics(r.film, exposure);
-            if (st.pixels == 0) throw Error("the object covers no pixel of the fitting render; check the camera");
         }
+        if (fit_bar) fit_bar->advance();
+        return r;
+    };
+    auto record = [&](const std::array<double, 3>& ks, const DisplayStatistics& st) {
         FitRecord rec;
-        rec.iteration = it;
+        rec.iteration = int(res.fit.size());
         rec.seconds = clock.seconds();
         rec.spp = fit_spp;
         rec.ks = ks;
@@ -185,8 +190,39 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
             rec.distance[c] = histogram_distance(st.histogram, photo_hist, c);
         }
         res.fit.push_back(rec);
-        driver.observe(rec.delta);
-        if (fit_bar) fit_bar->advance();
+        return rec.delta;
+    };
+
+    if (o.fit == FitMethod::Bisect || (o.fit != FitMethod::None && exposure == 0.f)) {
+        // Renders at both bounds: they bracket every reachable channel, and
+        // they fix the exposure (when not given) in the middle of the range
+        // where every channel can reach the photo: channel c can when
+        // e · M_c(k_min) <= P_c <= e · M_c(k_max), for mean linear radiance
+        // M_c of the render and P_c of the photo.
+        const std::array<double, 3> k_lo = limits.k_min;
+        const std::array<double, 3> k_hi{limits.k_max, limits.k_max, limits.k_max};
+        const RenderResult r_lo = fitting_render(k_lo);
+        const RenderResult r_hi = fitting_render(k_hi);
+        if (exposure == 0.f) {
+            const Spectrum p = photo_mean_linear(photo);
+            const Spectrum m_lo = object_mean_linear(r_lo.film), m_hi = object_mean_linear(r_hi.film);
+            double lower = 0.0, upper = 1e30;
+            for (int c = 0; c < 3; ++c) {
+                if (m_hi[c] > 0) lower = std::max(lower, double(p[c]) / m_hi[c]);
+                if (m_lo[c] > 0) upper = std::min(upper, double(p[c]) / m_lo[c]);
+            }
+            exposure = float(upper < 1e30 && lower > 0 ? std::sqrt(lower * upper)
+                                                       : matching_exposure(r_lo.film, photo));
+        }
+        const std::array<double, 3> d_lo = record(k_lo, display_statistics(r_lo.film, exposure));
+        const std::array<double, 3> d_hi = record(k_hi, display_statistics(r_hi.film, exposure));
+        if (o.fit == FitMethod::Bisect) driver.observe_bounds(d_lo, d_hi);
+    }
+    while (o.fit != FitMethod::None && !driver.done() && int(res.fit.size()) < o.fit_max_renders) {
+        const std::array<double, 3> ks = driver.k();
+        const RenderResult r = fitting_render(ks);
+        if (exposure == 0.f) exposure = matching_exposure(r.film, photo);
+        driver.observe(record(ks, display_statistics(r.film, exposure)));
     }
     if (fit_bar) fit_bar->finish();
     res.seconds_fit = clock.seconds();

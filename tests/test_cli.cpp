@@ -255,7 +255,10 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv",
                           "compare.png", "report.json"})
         CHECK(std::filesystem::exists(dir.file(std::string("o/") + f)));
-    CHECK(csv_rows(dir.file("o/fit.csv")).size() == 4);  // header + 3 renders (the cap)
+    // Header + the two renders at the k_s bounds + at most one more (the cap is 3).
+    const auto fit_rows = csv_rows(dir.file("o/fit.csv"));
+    CHECK(fit_rows.size() >= 3);
+    CHECK(fit_rows.size() <= 4);
     // The saved volume carries the fitted k_s: render it with another mesh.
     CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
                        " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);

@@ -111,3 +111,28 @@ TEST_CASE("display statistics: exposure, sRGB, 8 bits, object pixels only", "[fi
     CHECK(s.a[0] == Approx(level));
     CHECK(s.histogram.proportion(1, level) == Approx(1.0));
 }
+
+TEST_CASE("bisect from renders at both bounds: bracketed channels halve, the others stop", "[fitter]") {
+    auto sat = [](double k) { return 100.0 + 80.0 * (1.0 - std::exp(-k)); };  // 59.5 at -0.5, 178.5 at 4
+    FitLimits l = limits();
+    l.k_max = 4.0;
+    FitDriver d(FitMethod::Bisect, {0, 0, 0}, l);
+    const std::array<double, 3> target{150.0, 190.0, 30.0};
+    std::array<double, 3> lo, hi;
+    for (int c = 0; c < 3; ++c) {
+        lo[c] = sat(-0.5) - target[c];
+        hi[c] = sat(4.0) - target[c];
+    }
+    d.observe_bounds(lo, hi);
+    CHECK(d.state(1) == ChannelState::Unreachable);  // darker than the photo at k_max
+    CHECK(d.state(2) == ChannelState::Unreachable);  // brighter at k_min
+    CHECK(d.k()[0] == Approx(1.75));                 // the bracket's middle
+    int renders = 2;
+    while (!d.done() && renders < 50) {
+        d.observe({sat(d.k()[0]) - target[0], 0.0, 0.0});
+        ++renders;
+    }
+    CHECK(d.state(0) == ChannelState::Converged);
+    CHECK(std::abs(sat(d.best_k()[0]) - 150.0) < 1.0);
+    CHECK(renders <= 10);  // 4.5 wide, slope >= 15 per unit near the root: ~5 halvings
+}

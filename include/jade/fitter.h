@@ -35,6 +35,11 @@ DisplayStatistics display_statistics(const Film& film, float exposure);
 // match each channel from there.
 float matching_exposure(const Film& film, const Photo& photo);
 
+// Mean linear RGB of the photo's foreground (sRGB decoded) and of the
+// object's pixels in a render (coverage >= 0.5, divided by coverage).
+Spectrum photo_mean_linear(const Photo& photo);
+Spectrum object_mean_linear(const Film& film);
+
 enum class FitMethod { Step, Bisect, None };
 const char* to_string(FitMethod m);
 FitMethod parse_fit_method(const std::string& name);  // throws jade::Error
@@ -43,7 +48,7 @@ enum class ChannelState { Searching, Converged, Unreachable };
 
 struct FitLimits {
     std::array<double, 3> k_min{};  // smallest k_s per channel: σ_s ≥ 0 in every voxel
-    double k_max = 20.0;            // largest k_s tried (paper units)
+    double k_max = 4.0;             // largest k_s tried (paper units): albedo ~0.99 at v = 0.5
     double step = 0.01;             // the paper's Δk
     double tolerance = 1.0;         // Δd, gray levels
 };
@@ -53,10 +58,11 @@ struct FitLimits {
 // independently; a channel that has converged or proved unreachable keeps its k_s.
 //
 //   step    the paper's driver: k -= Δk · sign(ΔA) after every render.
-//   bisect  (default) steps outward from the start, doubling the step, until
-//           ΔA changes sign, then shrinks that bracket by bisection. The first
-//           step is the larger of Δk and a secant estimate from the last two
-//           renders, so a nearly linear A(k) is bracketed in two or three renders.
+//   bisect  (default) brackets the root, then halves the bracket. Given
+//           renders at both bounds (observe_bounds), they are the bracket.
+//           Otherwise it steps outward from the start, each step at least
+//           double the last and at least 1.5x a secant estimate of the
+//           distance to the root, until ΔA changes sign.
 class FitDriver {
 public:
     FitDriver(FitMethod method, const std::array<double, 3>& k_start, const FitLimits& limits);
@@ -65,6 +71,11 @@ public:
     const std::array<double, 3>& k() const { return k_; }
     // ΔA measured at k(); moves each searching channel on.
     void observe(const std::array<double, 3>& delta_a);
+    // Bisect only: ΔA measured at k_min and at k_max (two renders). A channel
+    // whose signs differ is bracketed at once and bisected from the middle; a
+    // channel with the same sign at both ends is unreachable.
+    void observe_bounds(const std::array<double, 3>& delta_at_min,
+                        const std::array<double, 3>& delta_at_max);
     bool done() const;
     ChannelState state(int c) const { return channel_[c].state; }
     // Why a channel stopped (empty while searching).

@@ -27,7 +27,7 @@ struct PipelineOptions {
     FitMethod fit = FitMethod::Bisect;
     int fit_width = 0;                // fitting renders: 0 = a quarter of the final width
     int fit_spp = 0;                  // 0 = chosen by the first fitting render (see fit_noise)
-    double fit_noise = 0.25;          // standard error of A, gray levels, the fit_spp must reach
+    double fit_noise = 0.3;           // standard error of A, gray levels, the fit_spp must reach
     int fit_max_renders = 24;
     FitLimits limits;                 // k_min is computed from the volume
     float exposure = 0.f;             // render → display factor before sRGB; 0 = matched at the

@@ -46,7 +46,8 @@ TrilinearStencil trilinear_stencil(const GridPlacement& g, const glm::vec3& p) {
 
 // ---------------------------------------------------------------------------
 
-MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube)
+MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube,
+                                           const Spectrum& majorant_floor)
     : volume_(volume), grid_(GridPlacement::of_cube(volume.resolution, cube)),
       table_(volume.optics, cube.side) {
     if (volume.levels.size() != grid_.voxels())
@@ -70,6 +71,7 @@ MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const C
         for (int l = 0; l < 256; ++l)
             if (used[c][l])
                 majorant_[c] = std::max(majorant_[c], table_.sigma_s[c][l] + table_.sigma_a[c][l]);
+    majorant_ = glm::max(majorant_, majorant_floor);
 }
 
 MediumProperties MaterialVolumeMedium::at(const glm::vec3& p) const {

@@ -38,7 +38,11 @@ TrilinearStencil trilinear_stencil(const GridPlacement& grid, const glm::vec3& p
 // The volume's levels are referenced, not copied: it must outlive the medium.
 class MaterialVolumeMedium final : public Medium {
 public:
-    MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube);
+    // majorant_floor raises the majorant (never lowers it below the true
+    // one): renders that share a majorant share every tentative collision,
+    // which keeps renders at nearby coefficients correlated (the fitter's use).
+    MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube,
+                         const Spectrum& majorant_floor = Spectrum(0.f));
     MediumProperties at(const glm::vec3& p) const override;
     Spectrum majorant() const override { return majorant_; }
     std::size_t memory_bytes() const override;
