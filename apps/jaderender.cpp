@@ -263,9 +263,15 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit-width", o.fit_width, "Width of the fitting renders (0 = a quarter of --width)")
         ->capture_default_str();
     app.add_option("--fit-spp", o.fit_spp, "Samples per pixel of the fitting renders (0 = doubled from "
-                                           "16 until A's standard error is below --fit-noise)")
+                                           "16 until A's standard error is below --fit-noise and the "
+                                           "estimated relative error below --fit-error)")
         ->capture_default_str();
     app.add_option("--fit-noise", o.fit_noise, "Standard error of A (gray levels) the fitting renders must reach")
+        ->capture_default_str();
+    app.add_option("--fit-error", o.fit_error,
+                   "Estimated relative error (per pixel) the fitting renders must reach")
+        ->capture_default_str();
+    app.add_option("--fit-spp-max", o.fit_spp_max, "Most samples per pixel a fitting render doubles to")
         ->capture_default_str();
     app.add_option("--fit-max-renders", o.fit_max_renders, "Most fitting renders")->capture_default_str();
     app.add_option("--ks-max", o.limits.k_max, "Largest k_s the fit tries")->capture_default_str();

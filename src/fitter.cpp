@@ -16,7 +16,7 @@ const char* kChannel[3] = {"red", "green", "blue"};
 DisplayStatistics display_statistics(const Film& film, float exposure) {
     DisplayStatistics s;
     std::vector<Rgb8> colours;
-    std::array<double, 3> var_sum{};
+    std::array<double, 3> var_sum{}, bias_sum{};
     for (int y = 0; y < film.height(); ++y)
         for (int x = 0; x < film.width(); ++x) {
             const float cov = film.coverage(x, y);
@@ -30,21 +30,29 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
                 const double lin = std::clamp(double(m[c]), 0.0, 1.0);
                 const double enc = srgb_encode(lin);
                 level[c] = std::uint8_t(std::lround(255.0 * enc));
-                // Delta method: Var[255 · srgb(e · x / cov)] ≈ (255 · srgb'(.) · e / cov)² Var[x].
-                const double h = 1e-4;
-                const double slope =
-                    lin >= 1.0 ? 0.0
-                               : 255.0 * (srgb_encode(std::min(1.0, lin + h)) - srgb_encode(std::max(0.0, lin - h))) /
-                                     (std::min(1.0, lin + h) - std::max(0.0, lin - h));
-                const double g = slope * exposure / cov;
-                if (std::isfinite(v[c])) var_sum[c] += g * g * v[c];
+                // Delta method: Var[255 · srgb(e · x / cov)] ≈ (255 · srgb'(.) · e / cov)² Var[x],
+                // and the mean of a noisy pixel's level is biased by ½ · 255 · srgb''(.) · (e / cov)² Var[x]
+                // (sRGB is concave: noise lowers A). The bias is removed from A,
+                // so that renders of different noise compare (the sRGB curve's
+                // linear toe and the clamp at 1 have no second derivative).
+                const double h = 1e-3;
+                if (lin < 1.0 && std::isfinite(v[c])) {
+                    const double lo = std::max(0.0, lin - h), hi = std::min(1.0, lin + h);
+                    const double slope = 255.0 * (srgb_encode(hi) - srgb_encode(lo)) / (hi - lo);
+                    const double g = slope * exposure / cov;
+                    var_sum[c] += g * g * v[c];
+                    if (lin - h > 0.0031308 && lin + h < 1.0) {
+                        const double curv = 255.0 * (srgb_encode(lin + h) - 2 * srgb_encode(lin) + srgb_encode(lin - h)) / (h * h);
+                        bias_sum[c] += 0.5 * curv * (exposure / cov) * (exposure / cov) * v[c];
+                    }
+                }
             }
             colours.push_back(level);
         }
     s.pixels = colours.size();
     s.histogram = RgbHistogram::of(colours);
     for (int c = 0; c < 3; ++c) {
-        s.a[c] = s.pixels ? s.histogram.mean(c) : 0.0;
+        s.a[c] = s.pixels ? s.histogram.mean(c) - bias_sum[c] / double(s.pixels) : 0.0;
         s.a_sigma[c] = s.pixels ? std::sqrt(var_sum[c]) / double(s.pixels) : 0.0;
     }
     return s;
@@ -75,6 +83,31 @@ Spectrum object_mean_linear(const Film& film) {
         }
     if (n == 0) return Spectrum(0.f);
     return Spectrum(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+}
+
+double exposure_for_brightness(const Film& film, int c, double target) {
+    // The object's pixel values in channel c, once.
+    std::vector<double> values;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const float cov = film.coverage(x, y);
+            if (cov >= 0.5f) values.push_back(double(film.mean(x, y)[c]) / cov);
+        }
+    if (values.empty()) return 0.0;
+    auto a_at = [&](double e) {
+        double sum = 0;
+        for (double v : values)
+            sum += double(std::lround(255.0 * srgb_encode(std::clamp(e * v, 0.0, 1.0))));
+        return sum / double(values.size());
+    };
+    double lo = std::log(1e-4), hi = std::log(1e4);
+    if (a_at(std::exp(hi)) < target) return std::numeric_limits<double>::infinity();
+    if (a_at(std::exp(lo)) > target) return 0.0;
+    for (int i = 0; i < 50; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (a_at(std::exp(mid)) < target ? lo : hi) = mid;
+    }
+    return std::exp(0.5 * (lo + hi));
 }
 
 float matching_exposure(const Film& film, const Photo& photo) {
@@ -208,10 +241,11 @@ void FitDriver::observe_channel(int c, double delta) {
         (delta < 0 ? ch.lo : ch.hi) = k;
     }
     if (ch.bracketed) {
-        if (ch.hi - ch.lo < 1e-6) {
+        if (ch.hi - ch.lo < 1e-3) {
             ch.state = ChannelState::Unreachable;
-            ch.reason = std::string(kChannel[c]) + ": A jumps across the goal within k_s +- 1e-6 (render " +
-                        "noise or 8-bit quantisation); the best k_s is kept (raise --fit-spp)";
+            ch.reason = std::string(kChannel[c]) + ": A crosses the goal by more than the tolerance within " +
+                        "k_s +- 0.001 (render noise or 8-bit quantisation), or the root moved outside the " +
+                        "bracket; the best k_s is kept (raise --fit-spp or lower --fit-error)";
             return;
         }
         k_[c] = 0.5 * (ch.lo + ch.hi);

@@ -80,6 +80,8 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     if (o.fit_max_renders < 2 && (o.fit == FitMethod::Bisect || o.exposure == 0.f))
         throw Error("--fit-max-renders must be at least 2: the fit starts with renders at both k_s bounds");
     if (!(o.fit_noise > 0)) throw Error("--fit-noise must be positive");
+    if (!(o.fit_error > 0)) throw Error("--fit-error must be positive");
+    if (o.fit_spp_max < 16) throw Error("--fit-spp-max must be at least 16");
     if (!(o.exposure >= 0) || !std::isfinite(o.exposure))
         throw Error("--exposure must be positive (or 0: matched to the photo)");
     if (o.fit_width < 0 || o.fit_spp < 0) throw Error("--fit-width and --fit-spp must not be negative");
@@ -137,6 +139,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     fit_settings.target_error = 0;
     fit_settings.reference = nullptr;
     int fit_spp = o.fit_spp;
+    double fit_error_measured = 0.0;  // the first fitting render's estimated relative error
     volume.optics.ks = {limits.k_max, limits.k_max, limits.k_max};
     const Spectrum shared_majorant = MaterialVolumeMedium(volume, volume.cube).majorant();
 
@@ -165,8 +168,13 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
                     display_statistics(r.film, exposure > 0 ? exposure : matching_exposure(r.film, photo));
                 if (st.pixels == 0)
                     throw Error("the object covers no pixel of the fitting render; check the camera");
-                if (std::max({st.a_sigma[0], st.a_sigma[1], st.a_sigma[2]}) <= o.fit_noise || spp >= 4096) {
+                // A's own scatter is not enough: a speckled image can have a
+                // steady mean histogram that is not the converged one's.
+                const bool a_steady = std::max({st.a_sigma[0], st.a_sigma[1], st.a_sigma[2]}) <= o.fit_noise;
+                const bool pixels_converged = r.passes.back().estimated_error <= o.fit_error;
+                if ((a_steady && pixels_converged) || spp >= o.fit_spp_max) {
                     fit_spp = spp;
+                    fit_error_measured = r.passes.back().estimated_error;
                     break;
                 }
             }
@@ -204,15 +212,15 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
         const RenderResult r_lo = fitting_render(k_lo);
         const RenderResult r_hi = fitting_render(k_hi);
         if (exposure == 0.f) {
-            const Spectrum p = photo_mean_linear(photo);
-            const Spectrum m_lo = object_mean_linear(r_lo.film), m_hi = object_mean_linear(r_hi.film);
-            double lower = 0.0, upper = 1e30;
+            // In display space, as A is measured: channel c can reach the
+            // photo at exposures from the one that makes the k_max render
+            // match it to the one that makes the k_min render match it.
+            double lower = 1e-4, upper = 1e4;
             for (int c = 0; c < 3; ++c) {
-                if (m_hi[c] > 0) lower = std::max(lower, double(p[c]) / m_hi[c]);
-                if (m_lo[c] > 0) upper = std::min(upper, double(p[c]) / m_lo[c]);
+                lower = std::max(lower, exposure_for_brightness(r_hi.film, c, photo_hist.mean(c)));
+                upper = std::min(upper, exposure_for_brightness(r_lo.film, c, photo_hist.mean(c)));
             }
-            exposure = float(upper < 1e30 && lower > 0 ? std::sqrt(lower * upper)
-                                                       : matching_exposure(r_lo.film, photo));
+            exposure = float(std::sqrt(lower * upper));
         }
         const std::array<double, 3> d_lo = record(k_lo, display_statistics(r_lo.film, exposure));
         const std::array<double, 3> d_hi = record(k_hi, display_statistics(r_hi.film, exposure));
@@ -306,7 +314,8 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
                    {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side}};
     j["fit"] = {{"method", to_string(o.fit)}, {"renders", res.fit.size()}, {"max_renders", o.fit_max_renders},
                 {"spp", res.fit.empty() ? 0 : res.fit.front().spp}, {"width", fit_camera.width()},
-                {"height", fit_camera.height()}, {"noise_target", o.fit_noise}, {"exposure", exposure},
+                {"height", fit_camera.height()}, {"noise_target", o.fit_noise}, {"error_target", o.fit_error},
+                {"estimated_relative_error", fit_error_measured}, {"exposure", exposure},
                 {"exposure_matched", o.exposure == 0.f},
                 {"tolerance", limits.tolerance}, {"step", limits.step}, {"ks_start", ks_start},
                 {"ks_min", limits.k_min}, {"ks_max", limits.k_max}, {"ks", res.ks},

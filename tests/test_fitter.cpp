@@ -4,6 +4,7 @@
 // statistics of a film against hand-computed histograms.
 
 #include "jade/fitter.h"
+#include "jade/random.h"
 
 #include <catch2/catch.hpp>
 
@@ -135,4 +136,22 @@ TEST_CASE("bisect from renders at both bounds: bracketed channels halve, the oth
     CHECK(d.state(0) == ChannelState::Converged);
     CHECK(std::abs(sat(d.best_k()[0]) - 150.0) < 1.0);
     CHECK(renders <= 10);  // 4.5 wide, slope >= 15 per unit near the root: ~5 halvings
+}
+
+TEST_CASE("A is corrected for the bias noise puts into a concave display curve", "[fitter]") {
+    // Pixels of true linear value 0.3, each the mean of 4 samples uniform on
+    // [0, 0.6]: the mean of their sRGB levels lies ~1.7 levels below
+    // 255·srgb(0.3); the corrected A must not.
+    const int n = 128, spp = 4;
+    Film f(n, n);
+    SplitMix64 rng(11);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            for (int s = 0; s < spp; ++s) f.add_sample(x, y, Spectrum(float(0.6 * rng.uniform())), true);
+    f.set_spp(spp);
+    const DisplayStatistics st = display_statistics(f, 1.f);
+    const double truth = 255.0 * srgb_encode(0.3);
+    INFO("A " << st.a[0] << " (histogram " << st.histogram.mean(0) << ") vs " << truth << " +- " << st.a_sigma[0]);
+    CHECK(st.histogram.mean(0) < truth - 1.0);                     // the raw mean is biased low
+    CHECK(std::abs(st.a[0] - truth) < 4 * st.a_sigma[0] + 0.05);  // the corrected one is not
 }

@@ -23,7 +23,11 @@ namespace jade {
 // exposure → sRGB → 8-bit, over the pixels the object covers (coverage ≥ 0.5).
 struct DisplayStatistics {
     RgbHistogram histogram;
-    std::array<double, 3> a{};        // A(κ)
+    // A(κ) of the histogram, less the bias the pixels' noise puts into it
+    // (the concave sRGB curve lowers the mean level of a noisy pixel by
+    // ½·|srgb''|·Var, estimated from the film's per-pixel variance), so that
+    // A estimates the converged render's value whatever the sample count.
+    std::array<double, 3> a{};
     std::array<double, 3> a_sigma{};  // standard error of A(κ) from the film's per-pixel variance
     std::size_t pixels = 0;
 };
@@ -34,6 +38,11 @@ DisplayStatistics display_statistics(const Film& film, float exposure);
 // by default the fit matches it once, at its first render, and lets k_s
 // match each channel from there.
 float matching_exposure(const Film& film, const Photo& photo);
+
+// The exposure at which the render's A(κ) in channel c equals `target`
+// (A grows with exposure; found by bisection on its logarithm). 0 or
+// infinity when even 10^-4 or 10^4 cannot reach it.
+double exposure_for_brightness(const Film& film, int channel, double target);
 
 // Mean linear RGB of the photo's foreground (sRGB decoded) and of the
 // object's pixels in a render (coverage >= 0.5, divided by coverage).
