@@ -245,6 +245,40 @@ std::string json_field(const std::string& json, const std::string& key) {
 
 }  // namespace
 
+TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back", "[cli][fit]") {
+    TempDir dir;
+    // A volume with strong absorption contrast (d_a = 1) and a dark
+    // environment, where brightness depends on k_s by 5-15 gray levels per
+    // unit; the "photo" is its render at k_s = (0.3, 0.1, -0.05) with 4096 spp
+    // (so the photo's own noise moves its A by well under a level).
+    REQUIRE(run(dir, "volume --photo " + std::string(JADE_DATA_DIR) +
+                         "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --da 1 --out " +
+                         dir.file("v.vdb")).code == 0);
+    REQUIRE(run(dir, "render --volume " + dir.file("v.vdb") + " --mesh " + kCow +
+                         " --ks 0.3,0.1,-0.05 --env 0.02 --transparent --width 48 --height 48 --spp 4096 --out " +
+                         dir.file("photo.exr")).code == 0);
+    const Result r = run(dir, "--photo " + dir.file("photo.png") + " --mesh " + kCow + " --volume " +
+                                  dir.file("v.vdb") + " --env 0.02 --width 48 --height 48 --spp 4 "
+                                  "--fit-width 48 --exposure 1 --out " + dir.file("fit"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
+    const std::string report = slurp(dir.file("fit/report.json"));
+    CHECK(json_field(report, "converged") == " true");
+    // The fitted k_s (the best per channel, in report.json's "ks" array).
+    const auto at = report.find("\"ks\": [");
+    REQUIRE(at != std::string::npos);
+    std::stringstream ks(report.substr(report.find('[', at) + 1));
+    const double truth[3] = {0.3, 0.1, -0.05};
+    for (int c = 0; c < 3; ++c) {
+        double k = 0;
+        char sep;
+        ks >> k >> sep;
+        // |dA| < 1 leaves k_s free within about 1 / (5..15 levels per unit).
+        CHECK(std::abs(k - truth[c]) < 0.12);
+    }
+}
+
 TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly", "[cli][fit]") {
     TempDir dir;
     const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
