@@ -184,6 +184,10 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--max-depth", j.settings.integrator.max_depth,
                    "Most interactions per path; paths cut here are counted as bias")
         ->capture_default_str();
+    cmd.add_option("--light-nee", j.settings.integrator.light_through_boundary,
+                   "Next-event estimation of the light through the boundary (off: only paths that "
+                   "refract out into the light's disc find it; same image, more noise)")
+        ->capture_default_str();
 }
 
 // Turns the text flags into the job's values (throws jade::Error naming the flag).

@@ -51,18 +51,26 @@ bool refract(const glm::vec3& d, const glm::vec3& n, float eta, glm::vec3& out) 
     return true;
 }
 
-BoundarySample sample_boundary(const BoundaryParams& p, const glm::vec3& d, const glm::vec3& normal,
-                               bool entering, float u) {
+BoundaryTransmission boundary_transmission(const BoundaryParams& p, const glm::vec3& d,
+                                           const glm::vec3& normal, bool entering) {
     const glm::vec3 n = glm::dot(d, normal) < 0.f ? normal : -normal;  // faces the incoming side
     const float eta = entering ? p.ior : 1.f / p.ior;
-    glm::vec3 refracted;
-    const bool can_refract = refract(d, n, eta, refracted);
-    float p_reflect = 1.f;
-    if (can_refract)
-        p_reflect = p.mode == BoundaryMode::Fresnel ? fresnel_dielectric(-glm::dot(d, n), eta)
-                                                    : p.specular;
-    if (u < p_reflect) return {reflect(d, n), true, p_reflect};
-    return {refracted, false, 1.f - p_reflect};
+    BoundaryTransmission t;
+    if (!refract(d, n, eta, t.direction)) return {};
+    t.weight = 1.f - (p.mode == BoundaryMode::Fresnel ? fresnel_dielectric(-glm::dot(d, n), eta)
+                                                      : p.specular);
+    return t;
+}
+
+BoundarySample sample_boundary(const BoundaryParams& p, const glm::vec3& d, const glm::vec3& normal,
+                               bool entering, float u) {
+    const BoundaryTransmission t = boundary_transmission(p, d, normal, entering);
+    const float p_reflect = 1.f - t.weight;  // 1 under total internal reflection
+    if (u < p_reflect) {
+        const glm::vec3 n = glm::dot(d, normal) < 0.f ? normal : -normal;
+        return {reflect(d, n), true, p_reflect};
+    }
+    return {t.direction, false, t.weight};
 }
 
 }  // namespace jade

@@ -64,6 +64,107 @@ PathCounters& PathCounters::operator+=(const PathCounters& o) {
     return *this;
 }
 
+namespace {
+
+// Ratio tracking (Cramer 1978; Novák et al. 2014) along o + t·d for
+// 0 <= t < t_max: every tentative collision multiplies the estimate by the
+// probability of a null collision there, σ_n / μ̄, per channel.
+Spectrum ratio_tracking(const Medium& medium, float mu, const glm::vec3& o, const glm::vec3& d,
+                        float t_max, SampleStream& rng, PathCounters& counters) {
+    Spectrum tr(1.f);
+    for (float t = sample_free_flight(mu, rng); t < t_max; t += sample_free_flight(mu, rng)) {
+        const MediumProperties m = medium.at(o + t * d);
+        ++counters.null_collisions;
+        tr *= glm::max(Spectrum(0.f), Spectrum(1.f) - (m.sigma_s + m.sigma_a) / mu);
+        // Russian roulette on a faint shadow ray keeps it unbiased and short.
+        const float q = max_component(tr);
+        if (q < 0.1f) {
+            if (q <= 0.f || rng.uniform() >= q * 10.f) return Spectrum(0.f);
+            tr /= q * 10.f;
+        }
+    }
+    return tr;
+}
+
+// The interface normal a ray meets at a hit, as trace_path uses it: the
+// shading normal bends the interface smoothly; where it faces away from the
+// ray's side of the triangle, the triangle's own normal is used instead.
+inline glm::vec3 interface_normal(const SurfaceHit& hit, const glm::vec3& d, bool entering) {
+    return (glm::dot(d, hit.shading_normal) < 0.f) == entering ? hit.shading_normal
+                                                               : hit.geometric_normal;
+}
+
+// Next-event estimation of the directional light through a smooth boundary.
+// No straight shadow ray reaches a light behind a refracting surface, but a
+// direction from a medium vertex can be chosen that will refract toward it:
+// the guide is the interior direction that leaves along the light's axis
+// through the surface point the axis itself meets (found by one probe ray),
+// and directions are drawn uniformly from a cone of the light's angular
+// radius around it. The sampled ray is then followed exactly: ratio-tracked
+// to the boundary, refracted there with the interface's transmission weight,
+// and counted if it leaves the scene inside the light's disc. The guide
+// depends only on the vertex, so the cone's density is known for any
+// direction and the estimate is combined with phase sampling (a path that
+// scatters, refracts out once and escapes into the disc) by multiple
+// importance sampling. It is a one-refraction special case of manifold
+// next-event estimation (Hanika et al. 2015), kept unbiased by the exact
+// tracing instead of a Newton solve.
+struct LightGuide {
+    glm::vec3 axis{0.f};
+    float cos_max = 1.f;
+    float pdf = 0.f;  // of every direction in the cone
+    bool on = false;
+    float pdf_of(const glm::vec3& w) const { return on && glm::dot(w, axis) >= cos_max ? pdf : 0.f; }
+};
+
+LightGuide light_guide(const Scene& scene, const glm::vec3& p) {
+    LightGuide g;
+    if (scene.interface.mode == BoundaryMode::Split && !(scene.interface.specular < 1.f))
+        return g;  // a mirror: nothing leaves
+    const glm::vec3& l = scene.light.direction();
+    const auto probe = scene.boundary->intersect(p, l, 0.f, kInfinity);
+    if (!probe || glm::dot(l, probe->geometric_normal) <= 0.f) return g;
+    // Light arriving along -l refracts into the object (always possible from
+    // the outside); the guide is its reverse.
+    const BoundaryTransmission in =
+        boundary_transmission(scene.interface, -l, interface_normal(*probe, -l, true), true);
+    if (in.direction == glm::vec3(0.f)) return g;
+    g.axis = -in.direction;
+    g.cos_max = std::cos(scene.light.angular_radius_degrees() * 0.017453292519943295f);
+    if (!(g.cos_max < 1.f)) return g;
+    g.pdf = uniform_cone_pdf(g.cos_max);
+    g.on = true;
+    return g;
+}
+
+// The estimate itself, for medium vertex p with incoming direction d, phase
+// sampling being the other strategy (balance heuristic).
+Spectrum light_through_boundary(const Scene& scene, const LightGuide& g, const glm::vec3& p,
+                                const glm::vec3& d, float mu, SampleStream& rng,
+                                PathCounters& counters) {
+    const float u1 = rng.uniform(), u2 = rng.uniform();
+    if (!g.on) return Spectrum(0.f);
+    ++counters.shadow_rays;
+    const glm::vec3 w = uniform_cone(g.axis, g.cos_max, u1, u2);
+    const auto hit = scene.boundary->intersect(p, w, 0.f, kInfinity);
+    if (!hit || glm::dot(w, hit->geometric_normal) <= 0.f) return Spectrum(0.f);
+    const BoundaryTransmission out =
+        boundary_transmission(scene.interface, w, interface_normal(*hit, w, false), false);
+    if (!(out.weight > 0.f)) return Spectrum(0.f);
+    const float le = scene.light.radiance_toward(out.direction);
+    if (!(le > 0.f)) return Spectrum(0.f);
+    const glm::vec3 y = p + hit->t * w;
+    if (scene.boundary->intersect(offset_origin(y, hit->geometric_normal, out.direction,
+                                                scene.ray_epsilon),
+                                  out.direction, 0.f, kInfinity))
+        return Spectrum(0.f);  // the object itself is in the way
+    const Spectrum tr = ratio_tracking(*scene.medium, mu, p, w, hit->t, rng, counters);
+    const float f = scene.phase.eval(d, w);
+    return tr * (f / (g.pdf + f) * out.weight * le);  // f/pdf times the MIS weight pdf/(pdf+f)
+}
+
+}  // namespace
+
 Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::vec3& direction,
                        SampleStream& rng, PathCounters& counters) {
     ++counters.shadow_rays;
@@ -74,20 +175,9 @@ Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::v
     for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
         const auto hit = scene.boundary->intersect(o, direction, 0.f, kInfinity);
         if (inside && mu > 0.f) {
-            const float t_max = hit ? hit->t : kInfinity;
-            // Ratio tracking: every tentative collision multiplies by the
-            // probability of a null collision there, σ_n / μ̄, per channel.
-            for (float t = sample_free_flight(mu, rng); t < t_max; t += sample_free_flight(mu, rng)) {
-                const MediumProperties m = scene.medium->at(o + t * direction);
-                ++counters.null_collisions;
-                tr *= glm::max(Spectrum(0.f), Spectrum(1.f) - (m.sigma_s + m.sigma_a) / mu);
-                // Russian roulette on a faint shadow ray keeps it unbiased and short.
-                const float q = max_component(tr);
-                if (q < 0.1f) {
-                    if (q <= 0.f || rng.uniform() >= q * 10.f) return Spectrum(0.f);
-                    tr /= q * 10.f;
-                }
-            }
+            tr *= ratio_tracking(*scene.medium, mu, o, direction, hit ? hit->t : kInfinity, rng,
+                                 counters);
+            if (max_component(tr) <= 0.f) return tr;
         }
         if (!hit) return tr;
         const glm::vec3 p = o + hit->t * direction;
@@ -106,6 +196,8 @@ PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
     const float mu = medium ? max_component(medium->majorant()) : 0.f;
     const bool index_matched = scene.interface.mode == BoundaryMode::None;
     const bool light_by_shadow_rays = index_matched && scene.light.on();
+    const bool light_by_refraction = !index_matched && medium && settings.light_through_boundary &&
+                                     scene.light.on() && !scene.light.is_delta();
     const int hero = std::min(2, int(3.f * rng.uniform()));
 
     SpectralWeight w;
@@ -113,6 +205,12 @@ PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
     bool inside = false;
     bool straight = true;        // still the camera ray (only index-matched crossings so far)
     bool light_counted = false;  // the last vertex counted the directional light by a shadow ray
+    // Multiple importance sampling with light_through_boundary(): the weight
+    // the light gets if this path, since its last scattering, refracts out
+    // once and leaves the scene (mis_exit), which is the path class both
+    // strategies sample. Any other event resets it to 1.
+    float light_mis = 1.f;
+    bool mis_pending = false, mis_exit = false;
     int depth = 0, crossings = 0;
 
     // Russian roulette after an interaction, only once the throughput has
@@ -164,8 +262,20 @@ PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
                             transmittance(scene, p, wl, rng, counters);
                         out.radiance += w.throughput() * scene.phase.eval(d, wl) * li * tr;
                     }
+                    LightGuide guide;
+                    if (light_by_refraction) {
+                        guide = light_guide(scene, p);
+                        out.radiance += w.throughput() *
+                                        light_through_boundary(scene, guide, p, d, mu, rng, counters);
+                    }
+                    const glm::vec3 d_in = d;
                     o = p;
                     d = scene.phase.sample(d, rng.uniform(), rng.uniform());
+                    if (guide.on) {
+                        const float f = scene.phase.eval(d_in, d);
+                        light_mis = f / (f + guide.pdf_of(d));
+                    }
+                    mis_pending = guide.on;
                     straight = false;
                     light_counted = light_by_shadow_rays;
                     scattered = true;
@@ -191,7 +301,8 @@ PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
                                           : scene.environment.radiance_toward(d);
             } else {
                 le = scene.environment.radiance_toward(d);
-                if (!light_counted) le += Spectrum(scene.light.radiance_toward(d));
+                if (!light_counted)
+                    le += Spectrum((mis_exit ? light_mis : 1.f) * scene.light.radiance_toward(d));
             }
             out.radiance += w.throughput() * le;
             return out;
@@ -219,6 +330,8 @@ PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
             const glm::vec3& ns = hit->shading_normal;
             const glm::vec3 n = (glm::dot(d, ns) < 0.f) == entering ? ns : ng;
             const BoundarySample bs = sample_boundary(scene.interface, d, n, entering, rng.uniform());
+            mis_exit = mis_pending && !entering && !bs.reflected;
+            mis_pending = false;
             d = bs.direction;
             straight = false;
             light_counted = false;

@@ -65,19 +65,13 @@ glm::vec3 DirectionalLight::sample(float u1, float u2, float& pdf) const {
         pdf = 0.f;
         return direction_;
     }
-    // Uniform in solid angle over the cone: cos θ uniform in [cos α, 1].
-    const float cos_t = 1.f - u1 * (1.f - cos_radius_);
-    const float sin_t = std::sqrt(std::max(0.f, 1.f - cos_t * cos_t));
-    const float phi = 2.f * kPi * u2;
-    glm::vec3 t, b;
-    orthonormal_basis(direction_, t, b);
-    pdf = 1.f / (2.f * kPi * (1.f - cos_radius_));
-    return glm::normalize(sin_t * std::cos(phi) * t + sin_t * std::sin(phi) * b + cos_t * direction_);
+    pdf = uniform_cone_pdf(cos_radius_);
+    return uniform_cone(direction_, cos_radius_, u1, u2);
 }
 
 float DirectionalLight::pdf(const glm::vec3& w) const {
     if (is_delta() || glm::dot(w, direction_) < cos_radius_) return 0.f;
-    return 1.f / (2.f * kPi * (1.f - cos_radius_));
+    return uniform_cone_pdf(cos_radius_);
 }
 
 Environment::Environment(const Spectrum& constant) : constant_(constant) {

@@ -42,6 +42,18 @@ glm::vec3 uniform_sphere(float u1, float u2) {
     return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
+glm::vec3 uniform_cone(const glm::vec3& axis, float cos_max, float u1, float u2) {
+    // cos θ uniform in [cos_max, 1] makes the density uniform in solid angle.
+    const float cos_t = 1.f - u1 * (1.f - cos_max);
+    const float sin_t = std::sqrt(std::max(0.f, 1.f - cos_t * cos_t));
+    const float phi = 2.f * kPi * u2;
+    glm::vec3 t, b;
+    orthonormal_basis(axis, t, b);
+    return glm::normalize(sin_t * std::cos(phi) * t + sin_t * std::sin(phi) * b + cos_t * axis);
+}
+
+float uniform_cone_pdf(float cos_max) { return 1.f / (2.f * kPi * (1.f - cos_max)); }
+
 glm::vec3 PhaseFunction::sample(const glm::vec3& in, float u1, float u2) const {
     float cos_theta;
     if (std::abs(g_) < kIsotropicG) {

@@ -349,6 +349,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
                   {"environment", o.render.environment}, {"environment_scale", o.render.environment_scale},
                   {"background", o.render.background}, {"seed", o.render.settings.seed},
                   {"max_depth", o.render.settings.integrator.max_depth},
+                  {"light_nee", o.render.settings.integrator.light_through_boundary},
                   {"camera_origin", {prep->camera.origin.x, prep->camera.origin.y, prep->camera.origin.z}},
                   {"camera_target", {prep->camera.target.x, prep->camera.target.y, prep->camera.target.z}},
                   {"fov_degrees_horizontal", prep->camera.fov_degrees}};

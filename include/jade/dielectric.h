@@ -51,6 +51,16 @@ struct BoundarySample {
     float probability;    // of the branch taken (for statistics and tests)
 };
 
+// The refracted branch alone, for estimators that follow it on purpose (next-
+// event estimation through the boundary): its direction and its weight, the
+// probability sample_boundary gives it (0 under total internal reflection).
+struct BoundaryTransmission {
+    glm::vec3 direction{0.f};
+    float weight = 0.f;
+};
+BoundaryTransmission boundary_transmission(const BoundaryParams& params, const glm::vec3& d,
+                                           const glm::vec3& n, bool entering);
+
 // Samples the interface for propagation direction d arriving at a surface
 // with unit normal n (any orientation); `entering` says whether d comes from
 // outside (index 1) into the object (index ior). u is uniform in [0, 1).

@@ -17,8 +17,13 @@
 // unless the vertex before was a medium vertex with a free line of sight to
 // the light (boundary `none`), which counts it by next-event estimation
 // instead, its shadow-ray transmittance by ratio tracking (Cramer 1978;
-// Novák et al. 2014). Behind a smooth dielectric no shadow ray can reach a
-// light, so the interior is lit only by paths that refract out toward it.
+// Novák et al. 2014). Behind a smooth dielectric no straight shadow ray can
+// reach a light; there each scattering vertex instead sends one ray into a
+// cone aimed so that it refracts out toward the light's disc, ratio-tracked to
+// the surface and followed through it, and combines it with the paths that
+// refract out by phase sampling through multiple importance sampling (see
+// light_guide in integrator.cpp). A delta light (radius 0) cannot be reached
+// that way: behind a dielectric it lights nothing inside.
 //
 // Paths end by absorption, Russian roulette (after `rr_depth` interactions,
 // survival = throughput when below 1) or when they would make interaction
@@ -35,6 +40,11 @@ namespace jade {
 struct IntegratorSettings {
     int max_depth = 4096;  // surface + medium interactions; counted when reached
     int rr_depth = 8;      // interactions before Russian roulette starts
+    // Next-event estimation of the directional light through a smooth
+    // boundary (with MIS). Off, the light inside is found only by paths that
+    // happen to refract out into its disc: same mean, more noise (for tests
+    // and benchmarks of the two strategies).
+    bool light_through_boundary = true;
     void validate() const;
 };
 
