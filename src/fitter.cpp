@@ -110,6 +110,19 @@ double exposure_for_brightness(const Film& film, int c, double target) {
     return std::exp(0.5 * (lo + hi));
 }
 
+double exposure_in_reach(const Film& at_k_min, const Film& at_k_max,
+                         const std::array<double, 3>& photo_a) {
+    // A channel that no exposure in range can match (a render too dark even
+    // at 10^4, or an empty one) pins its bound at that end of the range.
+    constexpr double kLowest = 1e-4, kHighest = 1e4;
+    double lower = kLowest, upper = kHighest;
+    for (int c = 0; c < 3; ++c) {
+        lower = std::max(lower, std::min(kHighest, exposure_for_brightness(at_k_max, c, photo_a[c])));
+        upper = std::min(upper, std::max(kLowest, exposure_for_brightness(at_k_min, c, photo_a[c])));
+    }
+    return std::sqrt(lower * upper);
+}
+
 float matching_exposure(const Film& film, const Photo& photo) {
     auto luminance = [](const Spectrum& s) { return 0.2126 * s.x + 0.7152 * s.y + 0.0722 * s.z; };
     const double render = luminance(object_mean_linear(film));

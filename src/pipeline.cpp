@@ -204,24 +204,14 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     if (o.fit == FitMethod::Bisect || (o.fit != FitMethod::None && exposure == 0.f)) {
         // Renders at both bounds: they bracket every reachable channel, and
         // they fix the exposure (when not given) in the middle of the range
-        // where every channel can reach the photo: channel c can when
-        // e · M_c(k_min) <= P_c <= e · M_c(k_max), for mean linear radiance
-        // M_c of the render and P_c of the photo.
+        // where every channel can reach the photo.
         const std::array<double, 3> k_lo = limits.k_min;
         const std::array<double, 3> k_hi{limits.k_max, limits.k_max, limits.k_max};
         const RenderResult r_lo = fitting_render(k_lo);
         const RenderResult r_hi = fitting_render(k_hi);
-        if (exposure == 0.f) {
-            // In display space, as A is measured: channel c can reach the
-            // photo at exposures from the one that makes the k_max render
-            // match it to the one that makes the k_min render match it.
-            double lower = 1e-4, upper = 1e4;
-            for (int c = 0; c < 3; ++c) {
-                lower = std::max(lower, exposure_for_brightness(r_hi.film, c, photo_hist.mean(c)));
-                upper = std::min(upper, exposure_for_brightness(r_lo.film, c, photo_hist.mean(c)));
-            }
-            exposure = float(std::sqrt(lower * upper));
-        }
+        if (exposure == 0.f)
+            exposure = float(exposure_in_reach(
+                r_lo.film, r_hi.film, {photo_hist.mean(0), photo_hist.mean(1), photo_hist.mean(2)}));
         const std::array<double, 3> d_lo = record(k_lo, display_statistics(r_lo.film, exposure));
         const std::array<double, 3> d_hi = record(k_hi, display_statistics(r_hi.film, exposure));
         if (o.fit == FitMethod::Bisect) driver.observe_bounds(d_lo, d_hi);

@@ -155,3 +155,44 @@ TEST_CASE("A is corrected for the bias noise puts into a concave display curve",
     CHECK(st.histogram.mean(0) < truth - 1.0);                     // the raw mean is biased low
     CHECK(std::abs(st.a[0] - truth) < 4 * st.a_sigma[0] + 0.05);  // the corrected one is not
 }
+
+TEST_CASE("the fitting exposure lies where every channel can reach the photo, and is always finite",
+          "[fitter]") {
+    // One-pixel films: linear value v shows as level round(255 srgb(e v)).
+    auto film = [](Spectrum v) {
+        Film f(1, 1);
+        f.add_sample(0, 0, v, true);
+        f.set_spp(1);
+        return f;
+    };
+    auto exposure_for = [](double linear, double level) {  // e with 255 srgb(e v) = level
+        return srgb_decode(level / 255.0) / linear;
+    };
+    const Film lo = film(Spectrum(0.02f, 0.04f, 0.05f));
+    const Film hi = film(Spectrum(0.2f, 0.3f, 0.4f));
+    const std::array<double, 3> photo{150, 120, 100};
+    // Channel c reaches the photo for e in [photo at hi, photo at lo]; the
+    // shared range is [max over c of the first, min over c of the second].
+    double lower = 0, upper = 1e9;
+    for (int c = 0; c < 3; ++c) {
+        lower = std::max(lower, exposure_for(hi.mean(0, 0)[c], photo[c]));
+        upper = std::min(upper, exposure_for(lo.mean(0, 0)[c], photo[c]));
+    }
+    REQUIRE(lower < upper);
+    const double e = exposure_in_reach(lo, hi, photo);
+    // Levels are integers, so the bounds found on them are within a level's width.
+    CHECK(e == Approx(std::sqrt(lower * upper)).epsilon(0.02));
+    CHECK(e > lower);
+    CHECK(e < upper);
+
+    // A black render at k_max (no exposure can brighten it) and an empty one:
+    // finite, positive, inside [1e-4, 1e4].
+    const Film black = film(Spectrum(0.f));
+    const double x = exposure_in_reach(black, black, photo);
+    CHECK(std::isfinite(x));
+    CHECK(x >= 1e-4);
+    CHECK(x <= 1e4);
+    const double empty = exposure_in_reach(Film(2, 2), Film(2, 2), photo);
+    CHECK(std::isfinite(empty));
+    CHECK(empty > 0);
+}

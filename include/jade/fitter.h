@@ -44,6 +44,16 @@ float matching_exposure(const Film& film, const Photo& photo);
 // infinity when even 10^-4 or 10^4 cannot reach it.
 double exposure_for_brightness(const Film& film, int channel, double target);
 
+// The exposure for fitting from renders at both k_s bounds: every channel c
+// can reach the photo's A_c at exposures from the one where the k_max render
+// matches it to the one where the k_min render does (in display space, as A
+// is measured). Returns the geometric middle of the range all channels
+// share, within [10^-4, 10^4]; when the ranges do not overlap, the middle of
+// the conflict (the channels that cannot reach the photo are then reported by
+// the driver). Always finite and positive.
+double exposure_in_reach(const Film& at_k_min, const Film& at_k_max,
+                         const std::array<double, 3>& photo_a);
+
 // Mean linear RGB of the photo's foreground (sRGB decoded) and of the
 // object's pixels in a render (coverage >= 0.5, divided by coverage).
 Spectrum photo_mean_linear(const Photo& photo);
