@@ -267,7 +267,7 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit-width", o.fit_width, "Width of the fitting renders (0 = a quarter of --width)")
         ->capture_default_str();
     app.add_option("--fit-spp", o.fit_spp, "Samples per pixel of the fitting renders (0 = doubled from "
-                                           "16 until A's standard error is below --fit-noise and the "
+                                           "256 until A's standard error is below --fit-noise and the "
                                            "estimated relative error below --fit-error)")
         ->capture_default_str();
     app.add_option("--fit-noise", o.fit_noise, "Standard error of A (gray levels) the fitting renders must reach")
@@ -280,7 +280,8 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit-max-renders", o.fit_max_renders, "Most fitting renders")->capture_default_str();
     app.add_option("--ks-max", o.limits.k_max, "Largest k_s the fit tries")->capture_default_str();
     app.add_option("--exposure", o.exposure, "Render-to-photo exposure factor before the sRGB encoding "
-                                             "(0 = match the photo's mean luminance at the first fitting render)")
+                                             "(0 = the middle of the range where every channel can reach the photo, from the "
+                                             "renders at both k_s bounds)")
         ->capture_default_str();
 }
 
@@ -338,7 +339,17 @@ int main(int argc, char** argv) {
                  "materials (jade, marble) from one photograph"};
     app.set_version_flag("--version", std::string(JADE_VERSION));
     app.require_subcommand(0, 1);
-    app.fallthrough();  // --threads may also follow the subcommand
+    // No fallthrough: a top-level (fitting) flag given after a subcommand is
+    // an error, not silently taken by the pipeline that does not run.
+
+    // --threads is accepted by every command, before or after its name.
+    int threads = 0;
+    auto add_threads = [&threads](CLI::App& cmd) {
+        cmd.add_option("--threads", threads,
+                       "Worker threads (0 = all cores); results do not depend on it")
+            ->capture_default_str();
+    };
+    add_threads(app);
 
     VolumeOptions vol;
     auto* volume_cmd = app.add_subcommand(
@@ -359,9 +370,6 @@ int main(int argc, char** argv) {
     PipelineFlags pipeline;
     add_pipeline_flags(app, pipeline);
 
-    int threads = 0;
-    app.add_option("--threads", threads, "Worker threads (0 = all cores); results do not depend on it")
-        ->capture_default_str();
 
     auto* bench_cmd = app.add_subcommand(
         "bench", "Benchmarks: time, throughput, error against time and peak memory");
@@ -391,6 +399,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     bench_render->add_option("--max-seconds", rbench.max_seconds, "Time budget")
         ->capture_default_str();
+
+    for (CLI::App* cmd : {volume_cmd, render_cmd, bench_cmd, bench_volume, bench_render})
+        add_threads(*cmd);
 
     try {
         app.parse(argc, argv);

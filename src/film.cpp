@@ -56,21 +56,28 @@ float Film::coverage(int x, int y) const {
 
 double Film::estimated_relative_error() const {
     if (spp_ < 2) return std::numeric_limits<double>::quiet_NaN();
-    double sum = 0.0;
-    std::size_t count = 0;
     const double n = spp_;
-    for (int y = 0; y < height_; ++y)
-        for (int x = 0; x < width_; ++x) {
-            const std::size_t i = std::size_t(y) * width_ + x;
-            if (hits_[i] == 0) continue;
-            for (int c = 0; c < 3; ++c) {
-                const double m = sum_[3 * i + c] / n;
-                const double var = std::max(0.0, (sum_sq_[3 * i + c] - n * m * m) / (n - 1.0)) / n;
-                sum += var / (m * m + kRelativeEpsilon);
-            }
-            count += 3;
-        }
+    // The object's mean value sets the scale of the regulariser, so that the
+    // measure does not depend on the image's exposure.
+    double level = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < hits_.size(); ++i) {
+        if (hits_[i] == 0) continue;
+        for (int c = 0; c < 3; ++c) level += sum_[3 * i + c] / n;
+        count += 3;
+    }
     if (count == 0) return std::numeric_limits<double>::quiet_NaN();
+    level /= double(count);
+    const double epsilon = kRelativeEpsilon * std::max(level * level, 1e-30);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < hits_.size(); ++i) {
+        if (hits_[i] == 0) continue;
+        for (int c = 0; c < 3; ++c) {
+            const double m = sum_[3 * i + c] / n;
+            const double var = std::max(0.0, (sum_sq_[3 * i + c] - n * m * m) / (n - 1.0)) / n;
+            sum += var / (m * m + epsilon);
+        }
+    }
     return std::sqrt(sum / double(count));
 }
 

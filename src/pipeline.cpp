@@ -156,13 +156,16 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     std::unique_ptr<Progress> fit_bar;
     if (o.progress && o.fit != FitMethod::None)
         fit_bar = std::make_unique<Progress>("fitting k_s", std::size_t(o.fit_max_renders));
-    // One fitting render at ks; the first chooses the sample count (doubled
-    // from 16 until A's standard error is below fit_noise in every channel,
-    // measured at the photo's mean luminance).
+    // One fitting render at ks; the first chooses the sample count: doubled
+    // from kFirstFitSpp until A's standard error is below fit_noise in every
+    // channel (measured at the photo's mean luminance) and the estimated
+    // per-pixel error below fit_error. The light's rare paths make both
+    // estimates read low at a few samples, hence the start at 256.
     auto fitting_render = [&](const std::array<double, 3>& ks) {
         RenderResult r;
         if (fit_spp == 0) {
-            for (int spp = 16;; spp *= 2) {
+            constexpr int kFirstFitSpp = 256;
+            for (int spp = std::min(kFirstFitSpp, o.fit_spp_max);; spp *= 2) {
                 r = render_at(ks, spp);
                 const DisplayStatistics st =
                     display_statistics(r.film, exposure > 0 ? exposure : matching_exposure(r.film, photo));

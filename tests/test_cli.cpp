@@ -191,6 +191,8 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         {"render --mesh " + kBlob + medium + " --reference " + kBlob + out, "blob.obj"},
         {"render --mesh " + kBlob + medium + " --out " + dir.file("no/such/r.exr"), "does not exist"},
         {"render --mesh " + kBlob + medium + " --spp 0" + out, "--spp"},
+        // A fitting flag belongs to the pipeline, not to render.
+        {"render --mesh " + kBlob + medium + " --render-seed 2" + out, "--render-seed"},
     };
     for (const Case& c : cases) {
         INFO("jaderender " << c.args);

@@ -28,26 +28,31 @@ TEST_CASE("the estimated relative error predicts the actual error", "[film]") {
     // from the film's variance must match the RMS relative error against the
     // truth. (A bright value keeps the noise of the denominator m² negligible.)
     const int w = 64, h = 64, spp = 16;
-    Film f(w, h);
+    Film f(w, h), dim(w, h);
     SplitMix64 rng(3);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int s = 0; s < spp; ++s) {
                 const float v = 5.f + float(rng.uniform() - 0.5);
                 f.add_sample(x, y, Spectrum(v), true);
+                dim.add_sample(x, y, Spectrum(v / 1000.f), true);
             }
     f.set_spp(spp);
+    dim.set_spp(spp);
+    // The regulariser is 0.01 m̄², m̄ = 5 the image's mean.
     double actual = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const double m = f.mean(x, y).x;
-            actual += (m - 5.0) * (m - 5.0) / (m * m + 0.01);
+            actual += (m - 5.0) * (m - 5.0) / (m * m + 0.01 * 25.0);
         }
     actual = std::sqrt(actual / (w * h));
-    // Var of one sample 1/12 -> of the mean 1/192; relative: sqrt(1/192 / 25.01) = 0.014431.
-    CHECK(f.estimated_relative_error() == Approx(0.014431).epsilon(0.02));
+    // Var of one sample 1/12 -> of the mean 1/192; relative: sqrt(1/192 / 25.25) = 0.014362.
+    CHECK(f.estimated_relative_error() == Approx(0.014362).epsilon(0.02));
     // The actual error of 4096 pixels is itself known to ~1.1% (one sigma).
     CHECK(actual == Approx(f.estimated_relative_error()).epsilon(0.05));
+    // The same image 1000 times darker is no more exact.
+    CHECK(dim.estimated_relative_error() == Approx(f.estimated_relative_error()).epsilon(1e-3));
 }
 
 TEST_CASE("the error against a reference is the RMSE", "[film]") {

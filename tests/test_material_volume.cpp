@@ -8,7 +8,8 @@
 using namespace jade;
 
 TEST_CASE("coefficients follow §5.1 exactly for known v_c", "[material_volume]") {
-    OpticalParams p;  // d_s = 1, d_a = 0.1, k_s = 0
+    OpticalParams p;  // the paper's values: d_s = 1, d_a = 0.1, k_s = 0
+    p.da = 0.1;
     // level 128 -> v_c = 0.5
     CHECK(paper_sigma_s(128, 0, p) == 0.5);
     CHECK(paper_sigma_a(128, p) == Approx(0.05).epsilon(1e-15));
@@ -28,6 +29,7 @@ TEST_CASE("coefficients follow §5.1 exactly for known v_c", "[material_volume]"
 
 TEST_CASE("sigma_s is clamped at zero, sigma_a is not touched by k_s", "[material_volume]") {
     OpticalParams p;
+    p.da = 0.1;
     p.ks = {-0.3, -0.3, -0.3};
     CHECK(paper_sigma_s(0, 0, p) == 0.0);
     CHECK(paper_sigma_s(64, 0, p) == 0.0);   // 0.25 - 0.3 < 0

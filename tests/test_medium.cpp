@@ -76,6 +76,7 @@ TEST_CASE("the material volume becomes world coefficients on any cube", "[medium
     v.levels.assign(64, Rgb8{128, 64, 255});
     v.levels[v.index(3, 3, 3)] = Rgb8{0, 0, 0};
     v.optics.ks = {0.1, 0.0, -0.2};
+    v.optics.da = 0.1;  // the paper's d_a, as in the numbers below
     for (double side : {1.0, 0.25}) {
         Cube cube;
         cube.min = {2.0, -1.0, 0.0};

@@ -34,9 +34,11 @@ public:
 
     // Estimated relative error of the image without a reference: the root of
     // the mean over the object's pixels (coverage > 0) and channels of
-    // Var[mean] / (mean² + 0.01) — the relative MSE of Rousselle et al. 2011,
-    // whose 0.01 keeps near-black pixels from dominating. NaN before 2 spp or
-    // when no pixel shows the object.
+    // Var[mean] / (mean² + 0.01 m̄²), m̄ the mean of those pixels — the
+    // relative MSE of Rousselle et al. 2011 for the image scaled to mean 1:
+    // its 0.01 keeps near-black pixels from dominating, and scaling makes the
+    // measure independent of exposure (a render 10x darker is not 10x more
+    // exact). NaN before 2 spp or when no pixel shows the object.
     double estimated_relative_error() const;
 
     // Linear RGBA floats, row 0 at the top; alpha = coverage when

@@ -26,7 +26,7 @@ class Progress;
 
 struct OpticalParams {
     double ds = 1.0;                      // d_s, scattering scale
-    double da = 0.1;                      // d_a, absorption scale
+    double da = 1.0;                      // d_a, absorption scale (the paper: 0.1; README: "Defaults")
     std::array<double, 3> ks{0, 0, 0};    // k_s(R, G, B), the fitted offsets
     // Optical thickness across the object's cube for a paper coefficient of 1.
     double density_scale = 20.0;

@@ -28,7 +28,7 @@ struct PipelineOptions {
     int fit_width = 0;                // fitting renders: 0 = a quarter of the final width
     int fit_spp = 0;                  // 0 = chosen by the first fitting render (see fit_noise)
     double fit_noise = 0.3;           // standard error of A, gray levels, the fit_spp must reach
-    double fit_error = 0.1;           // and the fitting render's estimated relative error (per pixel)
+    double fit_error = 0.4;           // and the fitting render's estimated relative error (per pixel)
     int fit_spp_max = 4096;           // the most the first fitting render doubles to
     int fit_max_renders = 24;
     FitLimits limits;                 // k_min is computed from the volume

@@ -44,7 +44,7 @@ struct RenderJob {
     glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
     float light_irradiance = 3.f;
     float light_radius_degrees = 20.f;
-    std::string environment = "0.4";           // "v", "r,g,b", or a lat-long image
+    std::string environment = "0.01";          // "v", "r,g,b", or a lat-long image: a dim fill (README: "Defaults")
     float environment_scale = 1.f;
     std::string background;                    // image behind the object
     bool transparent = false;

@@ -21,7 +21,7 @@ namespace jade {
 class Progress;
 
 struct RenderSettings {
-    int spp = 64;               // stop after this many samples per pixel
+    int spp = 256;              // stop after this many samples per pixel
     double time_limit = 0.0;    // seconds; 0 = none
     double target_error = 0.0;  // estimated relative error to stop at; 0 = none
     std::uint64_t seed = 1;
