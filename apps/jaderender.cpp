@@ -263,7 +263,8 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit", p.fit, "k_s driver: 'bisect' (bracket, then bisect), 'step' (the paper's "
                                    "0.01 steps) or 'none'")
         ->capture_default_str();
-    app.add_option("--ks", p.ks_start.text, "k_s to start the fit from (or to use with --fit none), r,g,b");
+    app.add_option("--ks", p.ks_start.text, "k_s to start the fit from (or to use with --fit none), r,g,b "
+                                            "(default: 0, or the stored k_s of --volume)");
     app.add_option("--fit-width", o.fit_width, "Width of the fitting renders (0 = a quarter of --width)")
         ->capture_default_str();
     app.add_option("--fit-spp", o.fit_spp, "Samples per pixel of the fitting renders (0 = doubled from "
@@ -298,7 +299,7 @@ int run_pipeline(PipelineFlags& p) {
     o.optics = p.volume.optics;
     if (p.ks_start.given()) {
         const glm::vec3 k = p.ks_start.value("--ks");
-        o.optics.ks = {k.x, k.y, k.z};
+        o.ks_start = std::array<double, 3>{k.x, k.y, k.z};
     }
     o.fit = jade::parse_fit_method(p.fit);
     o.out_dir = p.out_dir;

@@ -140,10 +140,10 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     fit_settings.reference = nullptr;
     int fit_spp = o.fit_spp;
     double fit_error_measured = 0.0;  // the first fitting render's estimated relative error
+    const std::array<double, 3> ks_start = o.ks_start.value_or(volume.optics.ks);
     volume.optics.ks = {limits.k_max, limits.k_max, limits.k_max};
     const Spectrum shared_majorant = MaterialVolumeMedium(volume, volume.cube).majorant();
 
-    const std::array<double, 3> ks_start = o.optics.ks;
     FitDriver driver(o.fit, ks_start, limits);
     float exposure = o.exposure;
     auto render_at = [&](const std::array<double, 3>& ks, int spp) {

@@ -299,6 +299,17 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
                        " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);
     CHECK_FALSE(json_field(slurp(dir.file("o/report.json")), "total").empty());
+    // Given back to the pipeline with --fit none, the volume keeps its fitted k_s.
+    const Result again = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --volume " +
+                                      dir.file("o/volume.vdb") + " --fit none --out " + dir.file("o2"));
+    INFO(again.out << again.err);
+    REQUIRE(again.code == 0);
+    auto printed_ks = [](const std::string& out) {  // "k_s = (r, g, b)" of the summary
+        const auto at = out.find("k_s = (");
+        return at == std::string::npos ? std::string() : out.substr(at, out.find(')', at) - at);
+    };
+    CHECK_FALSE(printed_ks(r.out).empty());
+    CHECK(printed_ks(again.out) == printed_ks(r.out));
 
     const std::string base = "--photo " + photo + " --mesh " + kCow + kSmall;
     struct Bad {

@@ -11,6 +11,7 @@
 #include "jade/render_job.h"
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,10 @@ struct PipelineOptions {
                                       // photo (its d_s, d_a, density scale and noise are kept)
     NoiseParams noise;
     MatchMode match = MatchMode::Joint;
-    OpticalParams optics;             // its ks is where the fit starts
+    OpticalParams optics;             // for a volume built from the photo
+    // Where the fit starts, and the k_s of --fit none. Default: the volume's
+    // own, i.e. 0 for a new volume and the stored k_s of a given .vdb.
+    std::optional<std::array<double, 3>> ks_start;
     FitMethod fit = FitMethod::Bisect;
     int fit_width = 0;                // fitting renders: 0 = a quarter of the final width
     int fit_spp = 0;                  // 0 = chosen by the first fitting render (see fit_noise)
