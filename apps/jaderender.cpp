@@ -1,17 +1,18 @@
 // jaderender: the command-line front end. It parses flags and calls the
 // library; all the work lives in libjade.
 
-#include "jade/atomic_file.h"
-#include "jade/bench.h"
-#include "jade/error.h"
-#include "jade/image_io.h"
-#include "jade/material_volume.h"
-#include "jade/photo.h"
-#include "jade/pipeline.h"
-#include "jade/progress.h"
-#include "jade/render_job.h"
-#include "jade/report.h"
-#include "jade/vdb_io.h"
+#include "jade/io/atomic_file.h"
+#include "jade/app/bench.h"
+#include "jade/core/error.h"
+#include "jade/core/parse.h"
+#include "jade/io/image_io.h"
+#include "jade/volume/material_volume.h"
+#include "jade/volume/photo.h"
+#include "jade/app/pipeline.h"
+#include "jade/core/progress.h"
+#include "jade/app/render_job.h"
+#include "jade/core/timing.h"
+#include "jade/io/vdb_io.h"
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -97,7 +98,7 @@ struct Vec3Flag {
     bool given() const { return !text.empty(); }
     glm::vec3 value(const char* flag) const {
         jade::Spectrum v;
-        if (!jade::parse_colour(text, v))
+        if (!jade::parse_vec3(text, v))
             throw jade::Error(std::string(flag) + " expects x,y,z (or one number), not '" + text + "'");
         return v;
     }

@@ -1,0 +1,28 @@
+#pragma once
+// Plain images, shared by every layer that reads, makes or writes pixels.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace jade {
+
+// One pixel's sRGB-encoded 8-bit levels (paper §4.2, §5.1: the method's colours).
+using Rgb8 = std::array<std::uint8_t, 3>;
+
+// A float image: linear values, row 0 at the top, channels interleaved.
+struct ImageF32 {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;
+    float at(int x, int y, int c) const {
+        return pixels[(std::size_t(y) * width + x) * channels + c];
+    }
+};
+
+// An 8-bit RGB image, row 0 at the top.
+struct RgbImage8 {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> pixels;
+};
+
+}  // namespace jade

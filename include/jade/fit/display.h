@@ -1,0 +1,62 @@
+#pragma once
+// The render seen as the photo's camera would have recorded it (paper §5.4;
+// docs/design.md, "Display space"): its brightness A(κ) per channel in the
+// photo's 8-bit display levels, and the exposure that brings it there.
+//
+//   A(κ) = Σ_i i · H(i, κ), gray levels 0..255, over the object's pixels
+//   ΔA(κ) = A_render(κ) − A_photo(κ); goal |ΔA(κ)| < Δd = 1 gray level
+//
+// Brightness grows with k_s (more scattering, higher albedo), so a render
+// brighter than the photo lowers k_s (the paper's Algorithm 2 prints the sign
+// reversed; its text is right).
+
+#include "jade/render/film.h"
+#include "jade/volume/histogram.h"
+#include "jade/volume/photo.h"
+
+#include <array>
+#include <string>
+
+namespace jade {
+
+// The render as the photo's camera would have recorded it: linear radiance ×
+// exposure → sRGB → 8-bit, over the pixels the object covers (coverage ≥ 0.5).
+struct DisplayStatistics {
+    RgbHistogram histogram;
+    // A(κ) of the histogram, less the bias the pixels' noise puts into it
+    // (the concave sRGB curve lowers the mean level of a noisy pixel by
+    // ½·|srgb''|·Var, estimated from the film's per-pixel variance), so that
+    // A estimates the converged render's value whatever the sample count.
+    std::array<double, 3> a{};
+    std::array<double, 3> a_sigma{};  // standard error of A(κ) from the film's per-pixel variance
+    std::size_t pixels = 0;
+};
+DisplayStatistics display_statistics(const Film& film, float exposure);
+
+// The exposure that gives the render's object pixels the photo's mean linear
+// luminance (Rec. 709 weights): the photo's absolute exposure is unknown, so
+// by default the fit matches it once, at its first render, and lets k_s
+// match each channel from there.
+float matching_exposure(const Film& film, const Photo& photo);
+
+// The exposure at which the render's A(κ) in channel c equals `target`
+// (A grows with exposure; found by bisection on its logarithm). 0 or
+// infinity when even 10^-4 or 10^4 cannot reach it.
+double exposure_for_brightness(const Film& film, int channel, double target);
+
+// The exposure for fitting from renders at both k_s bounds: every channel c
+// can reach the photo's A_c at exposures from the one where the k_max render
+// matches it to the one where the k_min render does (in display space, as A
+// is measured). Returns the geometric middle of the range all channels
+// share, within [10^-4, 10^4]; when the ranges do not overlap, the middle of
+// the conflict (the channels that cannot reach the photo are then reported by
+// the driver). Always finite and positive.
+double exposure_in_reach(const Film& at_k_min, const Film& at_k_max,
+                         const std::array<double, 3>& photo_a);
+
+// Mean linear RGB of the photo's foreground (sRGB decoded) and of the
+// object's pixels in a render (coverage >= 0.5, divided by coverage).
+Spectrum photo_mean_linear(const Photo& photo);
+Spectrum object_mean_linear(const Film& film);
+
+}  // namespace jade

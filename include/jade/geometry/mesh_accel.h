@@ -1,0 +1,43 @@
+#pragma once
+// Ray queries against the object's boundary: an Embree 3 BVH over one
+// triangle mesh. Owns its Embree device and scene (no global state); safe to
+// query from many threads at once.
+
+#include "jade/geometry/mesh.h"
+
+#include <glm/vec3.hpp>
+
+#include <memory>
+#include <optional>
+
+namespace jade {
+
+struct SurfaceHit {
+    float t = 0.f;                 // distance along the (unit) ray direction
+    std::uint32_t triangle = 0;
+    float u = 0.f, v = 0.f;        // barycentrics of vertices 1 and 2
+    glm::vec3 geometric_normal{};  // unit, outward for outward winding
+    glm::vec3 shading_normal{};    // unit, interpolated vertex normals (or = geometric)
+};
+
+class MeshAccel {
+public:
+    // flat = true ignores vertex normals (shading normal = face normal).
+    explicit MeshAccel(const TriangleMesh& mesh, bool flat = false);
+    ~MeshAccel();
+    MeshAccel(const MeshAccel&) = delete;
+    MeshAccel& operator=(const MeshAccel&) = delete;
+
+    // Closest hit with t in (tmin, tmax); direction must be unit length.
+    std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& direction,
+                                        float tmin, float tmax) const;
+    const TriangleMesh& mesh() const { return mesh_; }
+
+private:
+    struct Embree;
+    const TriangleMesh& mesh_;
+    bool flat_;
+    std::unique_ptr<Embree> embree_;
+};
+
+}  // namespace jade

@@ -1,0 +1,60 @@
+#pragma once
+// The material volume on disk as OpenVDB (DESIGN §10). OpenVDB is confined to
+// src/vdb_io.cpp: it compiles slowly, and the renderer samples plain arrays.
+//
+// Grids (all fog volumes, background 0, every voxel of the cube active):
+//   sigma_s  Vec3f  scattering coefficient per world unit, RGB
+//   sigma_a  Vec3f  absorption coefficient per world unit, RGB
+//   density  float  mean extinction (σ_s + σ_a averaged over RGB), per world unit
+//   color    Vec3f  single-scattering albedo σ_s / σ_t (0 where σ_t = 0)
+// Transform: voxel (i, j, k) is centred at world cube.min + (i + ½, j + ½, k + ½) · h,
+// h = cube.side / s, as OpenVDB's index-space convention puts voxel centres at
+// integer coordinates. File metadata (names prefixed "jade:") holds every
+// parameter needed to rebuild the volume and re-render it exactly.
+// Values are stored as half floats when d_a > 0 (see write_material_vdb);
+// OpenVDB readers (Blender, Houdini) widen them to float transparently.
+
+#include "jade/volume/material_volume.h"
+#include "jade/core/spectrum.h"
+#include "jade/volume/coefficient_grids.h"
+
+#include <string>
+
+namespace jade {
+
+// Writes the four grids and the metadata, whole or not at all.
+void write_material_vdb(const std::string& path, const MaterialVolume& volume);
+
+// Reads a file written by write_material_vdb back into the in-memory volume.
+// The levels are recovered from sigma_a (exact whenever d_a > 0) or else from
+// sigma_s (exact where σ_s is not clamped at 0) and checked against both grids.
+// Throws jade::Error for a missing file, a file OpenVDB cannot read, or a .vdb
+// that is not a jaderender material volume.
+MaterialVolume read_material_vdb(const std::string& path);
+
+// True when the file is a jaderender material volume (has 'jade:format'
+// metadata). Throws jade::Error when the file cannot be read as OpenVDB.
+bool is_material_vdb(const std::string& path);
+
+// How a foreign .vdb's `density` grid becomes coefficients (the convention of
+// Mitsuba's and Blender's volumes): σ_t = scale · density, σ_s = albedo · σ_t,
+// σ_a = (1 − albedo) · σ_t, with the albedo from a Vec3f/float `color` grid
+// when the file has one, else `albedo`.
+struct DensityConversion {
+    float scale = 1.f;
+    Spectrum albedo{0.9f};
+};
+
+// Reads a medium from a foreign .vdb whose grids sit in world space: float or
+// Vec3f grids `sigma_s` and `sigma_a` (per world unit), or else `density`
+// (+ `color`) converted as above. The grids are made dense over the bounding
+// box of their active voxels. Their transform must be axis-aligned (a scale
+// per axis and a translation) and shared. Throws jade::Error naming the file.
+CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversion& conversion);
+
+}  // namespace jade
+
+namespace jade {
+// The OpenVDB library version this build reads and writes with.
+const char* openvdb_version();
+}  // namespace jade

@@ -1,0 +1,74 @@
+#pragma once
+// The film: per-pixel sums of the camera samples' radiance and of its square,
+// so every pass knows the variance of each pixel's mean and can say how far
+// the image is from converged without a reference. Pixels use a box filter
+// (a pixel is the mean radiance over its square), as the reference renders do.
+
+#include "jade/io/image_io.h"
+#include "jade/core/spectrum.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace jade {
+
+class Film {
+public:
+    Film() : Film(0, 0) {}
+    Film(int width, int height);
+    int width() const { return width_; }
+    int height() const { return height_; }
+    int spp() const { return spp_; }
+
+    // Adds one sample to pixel (x, y). A pixel is written by one thread at a time.
+    void add_sample(int x, int y, const Spectrum& radiance, bool hit_object);
+    // Records that every pixel now holds `spp` samples (after a pass).
+    void set_spp(int spp) { spp_ = spp; }
+
+    Spectrum mean(int x, int y) const;
+    // Variance of the pixel's mean (sample variance / n), per channel.
+    Spectrum variance_of_mean(int x, int y) const;
+    // Fraction of the pixel's camera rays that met the object.
+    float coverage(int x, int y) const;
+
+    // Estimated relative error of the image without a reference: the root of
+    // the mean over the object's pixels (coverage > 0) and channels of
+    // Var[mean] / (mean² + 0.01 m̄²), m̄ the mean of those pixels — the
+    // relative MSE of Rousselle et al. 2011 for the image scaled to mean 1:
+    // its 0.01 keeps near-black pixels from dominating, and scaling makes the
+    // measure independent of exposure (a render 10x darker is not 10x more
+    // exact). NaN before 2 spp or when no pixel shows the object.
+    double estimated_relative_error() const;
+
+    // Linear RGBA floats, row 0 at the top; alpha = coverage when
+    // `alpha_is_coverage`, else 1.
+    std::vector<float> rgba(bool alpha_is_coverage) const;
+
+private:
+    int width_, height_;
+    int spp_ = 0;
+    std::vector<double> sum_, sum_sq_;    // 3 per pixel
+    std::vector<std::uint32_t> hits_;
+};
+
+// Error of a film against a reference image of the same size (RGB or more).
+struct ReferenceError {
+    double rmse = 0.0;     // over all pixels and channels
+    double rel_mse = 0.0;  // mean of (x − ref)² / (ref² + 0.01)
+};
+ReferenceError compare_with_reference(const Film& film, const ImageF32& reference);
+
+}  // namespace jade
+
+namespace jade {
+
+// Writes the film's mean as linear float RGBA (.exr: RGB associated with the
+// alpha as OpenEXR expects; alpha = coverage when `alpha_is_coverage`, else 1)
+// and, when png_path is not empty, as 8-bit sRGB RGBA (unassociated, as PNG
+// expects). Each file is written whole or not at all.
+// The PNG is display-encoded after multiplying by `png_exposure`.
+void write_film(const Film& film, const std::string& exr_path, const std::string& png_path,
+                bool alpha_is_coverage, float png_exposure = 1.f);
+
+}  // namespace jade

@@ -1,0 +1,76 @@
+#pragma once
+// The material volume (paper §4–5.1): the colour-matched noise, stored as the
+// matched 8-bit level per voxel and channel, and the optical coefficients
+// derived from it.
+//
+//   v_c   = level / 256                          (per channel, in [0, 1))
+//   σ_s   = max(0, v_c · d_s + k_s)              (paper units)
+//   σ_a   = (1 − v_c) · d_s · d_a
+//   world = paper · density_scale / cube side    (per world unit; DESIGN §4)
+//
+// Only the levels are stored (3 bytes a voxel): the coefficients are a
+// function of a level and five scalars, so changing k_s, d_a or the scale
+// rebuilds nothing.
+
+#include "jade/core/bounds.h"
+#include "jade/volume/color_match.h"
+#include "jade/volume/noise.h"
+#include "jade/volume/photo.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace jade {
+
+class Progress;
+
+struct OpticalParams {
+    double ds = 1.0;                      // d_s, scattering scale
+    double da = 1.0;                      // d_a, absorption scale (the paper: 0.1; README: "Defaults")
+    std::array<double, 3> ks{0, 0, 0};    // k_s(R, G, B), the fitted offsets
+    // Optical thickness across the object's cube for a paper coefficient of 1.
+    double density_scale = 20.0;
+
+    void validate() const;
+};
+
+struct MaterialVolume {
+    int resolution = 0;          // s
+    std::vector<Rgb8> levels;    // s^3, index (z * s + y) * s + x; slice z is the z-th image
+    NoiseParams noise;
+    MatchMode match = MatchMode::Joint;
+    OpticalParams optics;
+    Cube cube;
+    std::string photo;           // the photo it was matched to (for the record)
+
+    std::size_t index(int x, int y, int z) const {
+        return (std::size_t(z) * resolution + y) * resolution + x;
+    }
+    double voxel_size() const { return cube.side / resolution; }
+};
+
+// Paper-unit coefficients for one channel's level (§5.1).
+double paper_sigma_s(int level, int channel, const OpticalParams& p);
+double paper_sigma_a(int level, const OpticalParams& p);
+
+// World-unit coefficients for every level and channel: a 256-entry table per
+// channel, so turning levels into coefficients is a lookup.
+struct CoefficientTable {
+    std::array<std::array<float, 256>, 3> sigma_s{};
+    std::array<std::array<float, 256>, 3> sigma_a{};
+
+    CoefficientTable(const OpticalParams& p, double cube_side);
+};
+
+// Slice z of the volume as an 8-bit RGB image (row y, column x): the
+// colour-matched noise image of §4.2.
+std::vector<std::uint8_t> slice_image(const MaterialVolume& volume, int z);
+
+// Noise (§4.1) → colour matching (§4.2) → levels, slice by slice in parallel.
+// Each slice's noise is matched as soon as it exists, so the full float noise
+// cube is never held (the volume costs 3 bytes a voxel, not 7).
+MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& noise, MatchMode match,
+                                     const OpticalParams& optics, Progress* progress = nullptr);
+
+}  // namespace jade

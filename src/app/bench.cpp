@@ -1,0 +1,154 @@
+#include "jade/app/bench.h"
+
+#include "jade/io/atomic_file.h"
+#include "jade/core/error.h"
+#include "jade/core/parse.h"
+#include "jade/volume/material_volume.h"
+#include "jade/render/media/grid.h"
+#include "jade/geometry/mesh_io.h"
+#include "jade/geometry/mesh_accel.h"
+#include "jade/render/renderer.h"
+#include "jade/volume/photo.h"
+#include "jade/core/random.h"
+#include "jade/core/timing.h"
+#include "jade/app/render_job.h"
+#include "jade/io/vdb_io.h"
+
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+
+namespace jade {
+
+namespace {
+
+// 512x512 stone: grey body with 10% rose veins, so joint matching has two
+// colour families to keep apart.
+Photo builtin_photo() {
+    Photo p;
+    p.path = "(built-in synthetic stone)";
+    p.width = p.height = 512;
+    SplitMix64 rng(2016);
+    for (int i = 0; i < 512 * 512; ++i) {
+        const int d = int(rng.below(31)) - 15;
+        p.levels.push_back(rng.uniform() < 0.1
+                               ? Rgb8{std::uint8_t(200 + d / 2), std::uint8_t(90 + d), std::uint8_t(100 + d)}
+                               : Rgb8{std::uint8_t(150 + d), std::uint8_t(150 + d), std::uint8_t(145 + d)});
+        p.foreground.push_back(1);
+    }
+    return p;
+}
+
+double best_of(int repeats, const std::function<void()>& stage) {
+    double best = 1e300;
+    for (int i = 0; i < std::max(1, repeats); ++i) {
+        Stopwatch sw;
+        stage();
+        best = std::min(best, sw.seconds());
+    }
+    return best;
+}
+
+}  // namespace
+
+int run_volume_benchmark(const VolumeBenchOptions& o) {
+    const Photo photo = o.photo.empty() ? builtin_photo() : load_photo(o.photo);
+    NoiseParams noise;
+    noise.resolution = o.resolution;
+    noise.validate();
+    const double voxels = double(o.resolution) * o.resolution * o.resolution;
+
+    std::printf("volume benchmark: %d^3 voxels, photo %s, %d threads, best of %d\n", o.resolution,
+                photo.path.c_str(), tbb::info::default_concurrency(), o.repeats);
+    std::printf("%-28s %10s %14s %12s\n", "stage", "seconds", "Mvoxels/s", "peak RSS");
+
+    MaterialVolume vol;
+    for (MatchMode mode : {MatchMode::PerChannel, MatchMode::Joint}) {
+        const double t = best_of(o.repeats, [&] {
+            vol = MaterialVolume{};  // measure one volume's memory, not two
+            vol = build_material_volume(photo, noise, mode, OpticalParams{});
+        });
+        std::printf("%-28s %10.3f %14.1f %12s\n",
+                    (std::string("noise + matching (") + to_string(mode) + ")").c_str(), t,
+                    voxels / t / 1e6, format_megabytes(double(peak_rss_bytes())).c_str());
+    }
+
+    const std::string dir = o.scratch_dir.empty() ? std::filesystem::temp_directory_path().string()
+                                                  : o.scratch_dir;
+    const std::string path = (std::filesystem::path(dir) / "jaderender-bench.vdb").string();
+    const double tw = best_of(o.repeats, [&] { write_material_vdb(path, vol); });
+    const double size = double(file_size(path));
+    std::printf("%-28s %10.3f %14.1f %12s   (file %s)\n", "vdb write", tw, voxels / tw / 1e6,
+                format_megabytes(double(peak_rss_bytes())).c_str(), format_megabytes(size).c_str());
+    MaterialVolume back;
+    const double tr = best_of(o.repeats, [&] { back = read_material_vdb(path); });
+    std::printf("%-28s %10.3f %14.1f %12s\n", "vdb read", tr, voxels / tr / 1e6,
+                format_megabytes(double(peak_rss_bytes())).c_str());
+    std::filesystem::remove(path);
+    std::printf("round trip exact: %s\n", back.levels == vol.levels ? "yes" : "NO");
+    return back.levels == vol.levels ? 0 : 1;
+}
+
+int run_render_benchmark(const RenderBenchOptions& o) {
+    if (!(o.target_error > 0.0)) throw Error("--target-error must be positive");
+    const Photo photo = o.photo.empty() ? builtin_photo() : load_photo(o.photo);
+    const TriangleMesh mesh = o.mesh.empty() ? icosphere(5, 1.f) : load_mesh(o.mesh);
+    NoiseParams noise;
+    noise.resolution = o.resolution;
+    noise.validate();
+    const Stopwatch build_clock;
+    const MaterialVolume volume = build_material_volume(photo, noise, MatchMode::Joint, OpticalParams{});
+    const double build_s = build_clock.seconds();
+
+    const MeshAccel accel(mesh);
+    const MaterialVolumeMedium medium(volume, bounding_cube(mesh));
+    // The scene `jaderender render` sets up by default.
+    const RenderJob defaults;
+    Scene scene;
+    scene.boundary = &accel;
+    scene.medium = &medium;
+    scene.interface = defaults.interface;
+    scene.light = DirectionalLight(defaults.light_direction, defaults.light_irradiance,
+                                   defaults.light_radius_degrees);
+    Spectrum env;
+    parse_vec3(defaults.environment, env);
+    scene.environment = Environment(env);
+    scene.fit_ray_epsilon();
+    const PinholeCamera camera(frame_mesh(mesh.bounds(), o.width, o.height));
+
+    RenderSettings settings;
+    settings.spp = 1 << 20;
+    settings.time_limit = o.max_seconds;
+    settings.target_error = o.target_error;
+    std::printf("render benchmark: volume %d^3 from %s (built in %.2f s), mesh %s (%zu triangles), "
+                "%dx%d, %d threads; until estimated relative error %.3g or %.0f s\n",
+                o.resolution, photo.path.c_str(), build_s, mesh.path.c_str(), mesh.triangles.size(),
+                o.width, o.height, tbb::info::default_concurrency(), o.target_error, o.max_seconds);
+    std::printf("%6s %8s %10s %12s\n", "pass", "spp", "seconds", "est. error");
+    const RenderResult r = render(scene, camera, settings, nullptr, [](const PassRecord& p) {
+        std::printf("%6d %8d %10.2f %12.4f\n", p.pass, p.spp, p.seconds, p.estimated_error);
+        std::fflush(stdout);
+    });
+    const PassRecord& last = r.passes.back();
+    const double samples = double(o.width) * o.height * last.spp;
+    const PathCounters& c = r.counters;
+    const double collisions = double(c.real_collisions + c.null_collisions);
+    std::printf("reached %.4f after %.2f s (%d spp; stopped by %s)\n", last.estimated_error, r.seconds,
+                last.spp, r.stopped_by.c_str());
+    std::printf("samples/s %.3g, path vertices/s %.3g, vertices per path %.1f\n", samples / r.seconds,
+                double(c.vertices()) / r.seconds, double(c.vertices()) / double(c.paths));
+    std::printf("collisions: %.3g real, %.3g null (%.1f%% null); capped paths %llu\n",
+                double(c.real_collisions), double(c.null_collisions),
+                collisions > 0 ? 100.0 * double(c.null_collisions) / collisions : 0.0,
+                (unsigned long long)c.capped_paths);
+    std::printf("memory: medium %s, film %s, peak RSS %s\n",
+                format_megabytes(double(medium.memory_bytes())).c_str(),
+                format_megabytes(double(o.width) * o.height * (6 * sizeof(double) + sizeof(std::uint32_t))).c_str(),
+                format_megabytes(double(peak_rss_bytes())).c_str());
+    return 0;
+}
+
+}  // namespace jade

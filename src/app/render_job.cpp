@@ -1,0 +1,178 @@
+#include "jade/app/render_job.h"
+
+#include "jade/io/atomic_file.h"
+#include "jade/core/error.h"
+#include "jade/core/parse.h"
+#include "jade/io/image_io.h"
+#include "jade/render/media/grid.h"
+#include "jade/render/media/homogeneous.h"
+#include "jade/geometry/mesh_io.h"
+#include "jade/geometry/mesh_accel.h"
+#include "jade/geometry/topology.h"
+#include "jade/core/progress.h"
+#include "jade/core/timing.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+namespace jade {
+
+namespace {
+
+// Beside `out`, with the extension replaced (render.exr -> render.png).
+std::string sibling(const std::string& out, const std::string& suffix) {
+    std::filesystem::path p(out);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+// More than this share of open edges makes "inside" meaningless.
+constexpr double kBadlyOpen = 0.01;
+
+}  // namespace
+
+std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
+    job.interface.validate();
+    auto prep = std::make_unique<PreparedScene>();
+
+    // Boundary.
+    prep->mesh = load_mesh(job.mesh);
+    const MeshTopology topo = mesh_topology(prep->mesh);
+    if (!topo.closed()) {
+        const double share = double(topo.boundary_edges + topo.nonmanifold_edges) / double(topo.edges);
+        std::ostringstream w;
+        w << job.mesh << ": the mesh is not closed (" << topo.boundary_edges << " open and "
+          << topo.nonmanifold_edges << " non-manifold of " << topo.edges
+          << " edges); each triangle's front (outward) side is taken as outside, so paths may "
+             "enter or leave the medium through the holes";
+        if (share > kBadlyOpen && !job.allow_open)
+            fail_file(job.mesh, "the mesh is badly open (" + std::to_string(topo.boundary_edges) +
+                                    " of " + std::to_string(topo.edges) +
+                                    " edges border a hole), so its inside is undefined; close it "
+                                    "or pass --allow-open");
+        prep->warnings.push_back(w.str());
+    }
+    prep->accel = std::make_unique<MeshAccel>(prep->mesh, job.flat_normals);
+    prep->cube = bounding_cube(prep->mesh);
+
+    // Lights.
+    Scene& scene = prep->scene;
+    scene.boundary = prep->accel.get();
+    scene.interface = job.interface;
+    scene.phase = PhaseFunction(job.g);
+    scene.light = DirectionalLight(job.light_direction, job.light_irradiance, job.light_radius_degrees);
+    Spectrum env;
+    if (parse_vec3(job.environment, env)) {
+        scene.environment = Environment(env * job.environment_scale);
+    } else {
+        scene.environment = Environment(read_image_f32(job.environment), job.environment_scale);
+    }
+    if (!job.background.empty()) {
+        prep->background.emplace(read_image_f32(job.background));
+        scene.background = &*prep->background;
+    }
+    scene.transparent = job.transparent;
+    scene.fit_ray_epsilon();
+
+    // Camera.
+    CameraParams cam = frame_mesh(prep->mesh.bounds(), job.width, job.height, job.fov_degrees);
+    if (!job.camera_file.empty()) {
+        if (job.camera_origin || job.camera_target_given)
+            throw Error("--camera-file cannot be combined with --camera-origin/--camera-target");
+        cam = camera_from_file(load_gltf_camera(job.camera_file), job.width, job.height);
+    }
+    if (job.camera_origin) {
+        cam.origin = *job.camera_origin;
+        cam.up = job.camera_up;
+        if (!job.camera_target_given) cam.target = prep->mesh.bounds().centre();
+    }
+    if (job.camera_target_given) cam.target = job.camera_target;
+    cam.validate();
+    prep->camera = cam;
+    return prep;
+}
+
+RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
+                               const std::function<void(const PassRecord&)>& on_pass) {
+    job.settings.validate();
+    if (job.out.empty()) throw Error("--out is required");
+    if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
+        throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
+    require_output_folder(job.out);
+    RenderJobResult result;
+    const Stopwatch load_clock;
+    const std::unique_ptr<PreparedScene> prep = prepare_scene(job);
+    result.warnings = prep->warnings;
+    const Cube& cube = prep->cube;
+
+    // Medium.
+    std::unique_ptr<Medium> medium;
+    MaterialVolume volume;  // held here: the medium references its levels
+    if (!job.volume.empty()) {
+        if (is_material_vdb(job.volume)) {
+            volume = read_material_vdb(job.volume);
+            if (job.ks) volume.optics.ks = {(*job.ks)[0], (*job.ks)[1], (*job.ks)[2]};
+            volume.optics.validate();
+            char text[256];
+            std::snprintf(text, sizeof text,
+                          "jaderender volume %d^3 on the mesh's cube (side %.4g), k_s (%.3f, %.3f, %.3f)",
+                          volume.resolution, cube.side, volume.optics.ks[0], volume.optics.ks[1],
+                          volume.optics.ks[2]);
+            result.medium_description = text;
+            medium = std::make_unique<MaterialVolumeMedium>(volume, cube);
+        } else {
+            if (job.ks) fail_file(job.volume, "--ks applies to jaderender volumes only");
+            CoefficientGrids grids = read_medium_vdb(job.volume, job.density);
+            const auto& s = grids.placement.size;
+            result.medium_description = "grids " + std::to_string(s[0]) + "x" + std::to_string(s[1]) +
+                                        "x" + std::to_string(s[2]) + " from " + job.volume;
+            medium = std::make_unique<FloatGridMedium>(std::move(grids));
+        }
+    } else {
+        const Spectrum ss = job.sigma_s.value_or(Spectrum(0.f));
+        const Spectrum sa = job.sigma_a.value_or(Spectrum(0.f));
+        medium = std::make_unique<HomogeneousMedium>(ss, sa);
+        char text[200];
+        std::snprintf(text, sizeof text, "homogeneous, sigma_s (%g, %g, %g), sigma_a (%g, %g, %g)",
+                      ss.x, ss.y, ss.z, sa.x, sa.y, sa.z);
+        result.medium_description = text;
+    }
+    result.medium_bytes = medium->memory_bytes();
+    prep->scene.medium = medium.get();
+    const PinholeCamera camera(prep->camera);
+
+    std::optional<ImageF32> reference;
+    RenderSettings settings = job.settings;
+    if (!job.reference.empty()) {
+        reference = read_image_f32(job.reference);
+        if (reference->width != job.width || reference->height != job.height)
+            fail_file(job.reference, "is " + std::to_string(reference->width) + "x" +
+                                         std::to_string(reference->height) + ", the render " +
+                                         std::to_string(job.width) + "x" + std::to_string(job.height));
+        settings.reference = &*reference;
+    }
+    result.load_seconds = load_clock.seconds();
+
+    result.render = render(prep->scene, camera, settings, progress, on_pass);
+    if (progress) progress->finish();
+
+    const std::string png = job.png == "auto" ? sibling(job.out, ".png") : job.png;
+    const std::string csv =
+        job.convergence == "auto"
+            ? (std::filesystem::path(job.out).parent_path() / "convergence.csv").string()
+            : job.convergence;
+    write_film(result.render.film, job.out, png, job.transparent);
+    result.written.push_back(job.out);
+    if (!png.empty()) result.written.push_back(png);
+    if (!csv.empty()) {
+        write_convergence_csv(csv, result.render.passes);
+        result.written.push_back(csv);
+    }
+    return result;
+}
+
+}  // namespace jade

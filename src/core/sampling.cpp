@@ -1,0 +1,32 @@
+#include "jade/core/sampling.h"
+
+#include "jade/core/math.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace jade {
+
+void orthonormal_basis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2) {
+    const float sign = std::copysign(1.f, n.z);
+    const float a = -1.f / (sign + n.z);
+    const float b = n.x * n.y * a;
+    b1 = glm::vec3(1.f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    b2 = glm::vec3(b, sign + n.y * n.y * a, -n.y);
+}
+
+glm::vec3 uniform_cone(const glm::vec3& axis, float cos_max, float u1, float u2) {
+    // cos θ uniform in [cos_max, 1] makes the density uniform in solid angle.
+    const float cos_t = 1.f - u1 * (1.f - cos_max);
+    const float sin_t = std::sqrt(std::max(0.f, 1.f - cos_t * cos_t));
+    const float phi = 2.f * kPi * u2;
+    glm::vec3 t, b;
+    orthonormal_basis(axis, t, b);
+    return glm::normalize(sin_t * std::cos(phi) * t + sin_t * std::sin(phi) * b + cos_t * axis);
+}
+
+float uniform_cone_pdf(float cos_max) { return 1.f / (2.f * kPi * (1.f - cos_max)); }
+
+}  // namespace jade

@@ -1,0 +1,20 @@
+#include "jade/core/timing.h"
+
+#include <cstdio>
+#include <sys/resource.h>
+
+namespace jade {
+
+std::size_t peak_rss_bytes() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return std::size_t(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
+}
+
+std::string format_megabytes(double bytes) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f MB", bytes / 1e6);
+    return buf;
+}
+
+}  // namespace jade

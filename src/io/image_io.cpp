@@ -1,0 +1,78 @@
+#include "jade/io/image_io.h"
+
+#include "jade/io/atomic_file.h"
+#include "jade/core/display.h"
+#include "jade/core/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+namespace jade {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+namespace {
+template <typename T>
+void write_image(const std::string& path, int width, int height, int channels,
+                 const std::vector<T>& pixels, OIIO::TypeDesc type, bool associated) {
+    if (pixels.size() != std::size_t(width) * height * channels)
+        throw Error("internal: image buffer size does not match its dimensions for " + path);
+    AtomicFile file(path);
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) fail_file(path, "no image writer for this file extension");
+    OIIO::ImageSpec spec(width, height, channels, type);
+    if (channels == 4) {
+        spec.alpha_channel = 3;
+        // Straight colour beside its coverage must be marked, or OIIO would
+        // divide it by alpha once more when writing PNG.
+        if (!associated) spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
+    if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+    if (!out->open(file.temp_path(), spec) || !out->write_image(type, pixels.data()) ||
+        !out->close())
+        fail_file(path, "cannot write image: " + out->geterror());
+    file.commit();
+}
+}  // namespace
+
+void write_image_u8(const std::string& path, int width, int height, int channels,
+                    const std::vector<std::uint8_t>& pixels) {
+    write_image(path, width, height, channels, pixels, OIIO::TypeDesc::UINT8, false);
+}
+
+void write_image_f32(const std::string& path, int width, int height, int channels,
+                     const std::vector<float>& pixels, bool associated_alpha) {
+    write_image(path, width, height, channels, pixels, OIIO::TypeDesc::FLOAT, associated_alpha);
+}
+
+ImageF32 read_image_f32(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        const std::string why = OIIO::geterror();
+        fail_file(path, why.empty() ? "cannot open as an image" : "cannot read as an image: " + why);
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    ImageF32 img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    if (img.width < 1 || img.height < 1 || img.channels < 1) fail_file(path, "image has no pixels");
+    img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+        fail_file(path, "cannot decode: " + in->geterror());
+    const bool linear = spec.format.is_floating_point();
+    const std::string space = spec.get_string_attribute("oiio:ColorSpace");
+    if (!linear && space != "Linear" && space != "linear") {
+        // 8/16-bit images are display-encoded: back to linear radiance.
+        for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+            if (int(i % img.channels) == spec.alpha_channel) continue;
+            img.pixels[i] = float(srgb_decode(img.pixels[i]));
+        }
+    }
+    for (float v : img.pixels)
+        if (!std::isfinite(v)) fail_file(path, "image holds NaN or infinite values");
+    return img;
+}
+
+}  // namespace jade

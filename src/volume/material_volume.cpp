@@ -1,0 +1,80 @@
+#include "jade/volume/material_volume.h"
+
+#include "jade/core/error.h"
+#include "jade/core/progress.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace jade {
+
+void OpticalParams::validate() const {
+    if (!(ds > 0.0) || !std::isfinite(ds))
+        throw Error("--ds must be a positive number, got " + std::to_string(ds));
+    if (!(da >= 0.0) || !std::isfinite(da))
+        throw Error("--da must be zero or positive, got " + std::to_string(da));
+    for (double k : ks)
+        if (!std::isfinite(k)) throw Error("--ks must be finite numbers");
+    if (!(density_scale > 0.0) || !std::isfinite(density_scale))
+        throw Error("--density-scale must be a positive number, got " +
+                    std::to_string(density_scale));
+}
+
+double paper_sigma_s(int level, int channel, const OpticalParams& p) {
+    const double vc = level / 256.0;
+    return std::max(0.0, vc * p.ds + p.ks[channel]);
+}
+
+double paper_sigma_a(int level, const OpticalParams& p) {
+    const double vc = level / 256.0;
+    return (1.0 - vc) * p.ds * p.da;
+}
+
+CoefficientTable::CoefficientTable(const OpticalParams& p, double cube_side) {
+    const double to_world = p.density_scale / cube_side;
+    for (int c = 0; c < 3; ++c)
+        for (int level = 0; level < 256; ++level) {
+            sigma_s[c][level] = float(paper_sigma_s(level, c, p) * to_world);
+            sigma_a[c][level] = float(paper_sigma_a(level, p) * to_world);
+        }
+}
+
+std::vector<std::uint8_t> slice_image(const MaterialVolume& v, int z) {
+    const int s = v.resolution;
+    std::vector<std::uint8_t> px(std::size_t(s) * s * 3);
+    for (int y = 0; y < s; ++y)
+        for (int x = 0; x < s; ++x)
+            for (int c = 0; c < 3; ++c) px[(std::size_t(y) * s + x) * 3 + c] = v.levels[v.index(x, y, z)][c];
+    return px;
+}
+
+MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& noise, MatchMode match,
+                                     const OpticalParams& optics, Progress* progress) {
+    noise.validate();
+    optics.validate();
+    MaterialVolume vol;
+    vol.resolution = noise.resolution;
+    vol.noise = noise;
+    vol.match = match;
+    vol.optics = optics;
+    vol.photo = photo.path;
+
+    const int s = noise.resolution;
+    const std::size_t m = std::size_t(s) * s;
+    const std::vector<Rgb8> table = rank_colour_table(photo.foreground_levels(), m, match);
+    const Fbm fbm(noise);
+    vol.levels.resize(m * s);
+    tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> slice(m);
+        for (int k = r.begin(); k < r.end(); ++k) {
+            fbm_slice(fbm, s, k, slice.data());
+            match_slice(slice.data(), m, table, &vol.levels[k * m]);
+            if (progress) progress->advance();
+        }
+    });
+    return vol;
+}
+
+}  // namespace jade

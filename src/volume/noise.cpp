@@ -1,0 +1,151 @@
+#include "jade/volume/noise.h"
+
+#include "jade/core/error.h"
+#include "jade/core/random.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace jade {
+
+int NoiseParams::octave_count() const {
+    if (octaves > 0) return octaves;
+    int n = 0;
+    while ((2 << n) <= resolution) ++n;  // floor(log2(s))
+    return n < 1 ? 1 : n;
+}
+
+void NoiseParams::validate() const {
+    if (resolution < 2 || resolution > 1024)
+        throw Error("--resolution must be between 2 and 1024 voxels, got " +
+                    std::to_string(resolution));
+    if (octaves < 0 || octaves > 30)
+        throw Error("--octaves must be between 1 and 30 (0 = log2 of the resolution), got " +
+                    std::to_string(octaves));
+    if (!(k > 0.0 && k < 1.0))
+        throw Error("--k must lie strictly between 0 and 1, got " + std::to_string(k));
+}
+
+namespace {
+
+// Kernel radius squared. 0.5 is the largest radius for which a corner's
+// influence vanishes before the point leaves the corner's simplices, so the
+// noise is continuous (Gustavson's 0.6 leaves small seams).
+constexpr double kRadius2 = 0.5;
+
+// Scale making |noise| <= 1 provably: each of the four corners contributes at
+// most |g| * max_r r (R^2 - r^2)^4 with |g| = sqrt(2), reached at r^2 = R^2/9.
+// For R^2 = 1/2 that is sqrt(2) * sqrt(1/18) * (4/9)^4 = 256/19683 per corner.
+constexpr double kNoiseScale = 19683.0 / (4.0 * 256.0);
+static_assert(kRadius2 == 0.5, "kNoiseScale is derived for R^2 = 1/2");
+
+// The twelve gradients: midpoints of a cube's edges.
+constexpr int kGrad[12][3] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0},
+                              {1, 0, 1},  {-1, 0, 1},  {1, 0, -1}, {-1, 0, -1},
+                              {0, 1, 1},  {0, -1, 1},  {0, 1, -1}, {0, -1, -1}};
+
+inline int fast_floor(double x) {
+    const int i = int(x);
+    return x < i ? i - 1 : i;
+}
+
+// A corner's contribution: (R^2 - r^2)^4 (g . d), zero beyond the radius.
+// Branch-free: which corners are in range is random, so a branch would be
+// mispredicted about half the time.
+inline double corner(int gi, double x, double y, double z) {
+    double t = std::max(kRadius2 - x * x - y * y - z * z, 0.0);
+    t *= t;
+    return t * t * (kGrad[gi][0] * x + kGrad[gi][1] * y + kGrad[gi][2] * z);
+}
+
+}  // namespace
+
+SimplexNoise::SimplexNoise(std::uint32_t seed) {
+    for (int i = 0; i < 256; ++i) perm_[i] = std::uint8_t(i);
+    SplitMix64 rng(0x6A6164655F6E6F69ull ^ seed);  // Fisher-Yates shuffle
+    for (int i = 255; i > 0; --i) {
+        const int j = int(rng.below(std::uint64_t(i) + 1));
+        std::swap(perm_[i], perm_[j]);
+    }
+    for (int i = 0; i < 256; ++i) perm_[256 + i] = perm_[i];
+}
+
+double SimplexNoise::operator()(double x, double y, double z) const {
+    constexpr double F3 = 1.0 / 3.0;  // skew to the cubic lattice
+    constexpr double G3 = 1.0 / 6.0;  // and back
+
+    const double s = (x + y + z) * F3;
+    const int i = fast_floor(x + s), j = fast_floor(y + s), k = fast_floor(z + s);
+    const double t = (i + j + k) * G3;
+    const double x0 = x - (i - t), y0 = y - (j - t), z0 = z - (k - t);
+
+    // Which of the six tetrahedra of the skewed cube holds the point: walk
+    // from the origin corner along the axes in decreasing order of offset.
+    // Written with comparisons instead of branches (the order is random).
+    const int xy = x0 >= y0, yz = y0 >= z0, xz = x0 >= z0;
+    const int i1 = xy & xz, j1 = (!xy) & yz, k1 = (!xz) & (!yz);
+    const int i2 = xy | xz, j2 = (!xy) | yz, k2 = !(xz & yz);
+    const double x1 = x0 - i1 + G3, y1 = y0 - j1 + G3, z1 = z0 - k1 + G3;
+    const double x2 = x0 - i2 + 2 * G3, y2 = y0 - j2 + 2 * G3, z2 = z0 - k2 + 2 * G3;
+    const double x3 = x0 - 1 + 3 * G3, y3 = y0 - 1 + 3 * G3, z3 = z0 - 1 + 3 * G3;
+
+    const int ii = i & 255, jj = j & 255, kk = k & 255;
+    const int g0 = perm_[ii + perm_[jj + perm_[kk]]] % 12;
+    const int g1 = perm_[ii + i1 + perm_[jj + j1 + perm_[kk + k1]]] % 12;
+    const int g2 = perm_[ii + i2 + perm_[jj + j2 + perm_[kk + k2]]] % 12;
+    const int g3 = perm_[ii + 1 + perm_[jj + 1 + perm_[kk + 1]]] % 12;
+
+    return kNoiseScale * (corner(g0, x0, y0, z0) + corner(g1, x1, y1, z1) + corner(g2, x2, y2, z2) +
+                    corner(g3, x3, y3, z3));
+}
+
+Fbm::Fbm(const NoiseParams& params)
+    : simplex_(params.seed), resolution_(params.resolution), octaves_(params.octave_count()),
+      k_(params.k) {
+    params.validate();
+    offset_.resize(3 * std::size_t(octaves_));
+    for (std::size_t i = 0; i < offset_.size(); ++i)
+        offset_[i] = 256.0 * to_unit_double(splitmix64((std::uint64_t(params.seed) << 32) ^ i));
+}
+
+double Fbm::frequency(int i) const { return std::ldexp(1.0 / resolution_, i); }
+
+double Fbm::amplitude(int i) const { return std::pow(k_, i + 1); }
+
+double Fbm::bound() const {
+    double sum = 0.0;
+    for (int i = 0; i < octaves_; ++i) sum += amplitude(i);
+    return sum;
+}
+
+double Fbm::operator()(double x, double y, double z) const {
+    double sum = 0.0, fr = 1.0 / resolution_, amp = k_;
+    for (int i = 0; i < octaves_; ++i) {
+        const double* o = &offset_[3 * std::size_t(i)];
+        sum += amp * simplex_(x * fr + o[0], y * fr + o[1], z * fr + o[2]);
+        fr *= 2.0;
+        amp *= k_;
+    }
+    return sum;
+}
+
+void fbm_slice(const Fbm& fbm, int resolution, int k, float* out) {
+    const double z = k + 0.5;
+    for (int j = 0; j < resolution; ++j)
+        for (int i = 0; i < resolution; ++i)
+            out[std::size_t(j) * resolution + i] = float(fbm(i + 0.5, j + 0.5, z));
+}
+
+std::vector<float> fbm_volume(const NoiseParams& params) {
+    const Fbm fbm(params);
+    const int s = params.resolution;
+    const std::size_t slice = std::size_t(s) * s;
+    std::vector<float> out(slice * s);
+    tbb::parallel_for(0, s, [&](int k) { fbm_slice(fbm, s, k, &out[k * slice]); });
+    return out;
+}
+
+}  // namespace jade

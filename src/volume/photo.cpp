@@ -1,0 +1,147 @@
+#include "jade/volume/photo.h"
+
+#include "jade/core/display.h"
+#include "jade/core/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fcntl.h>
+#include <filesystem>
+#include <unistd.h>
+
+namespace jade {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+std::size_t Photo::foreground_count() const {
+    return std::size_t(std::count(foreground.begin(), foreground.end(), std::uint8_t(1)));
+}
+
+std::vector<Rgb8> Photo::foreground_levels() const {
+    std::vector<Rgb8> out;
+    out.reserve(foreground_count());
+    for (std::size_t i = 0; i < levels.size(); ++i)
+        if (foreground[i]) out.push_back(levels[i]);
+    return out;
+}
+
+namespace {
+
+// Some codecs (libpng) print their own complaints on stderr before OpenImageIO
+// reports the same problem through geterror(). The user must see one line, so
+// stderr is pointed at /dev/null while a decoder runs. Photos are read before
+// any worker thread starts, so nothing else is silenced.
+class QuietStderr {
+public:
+    QuietStderr() {
+        std::fflush(stderr);
+        saved_ = ::dup(STDERR_FILENO);
+        const int null = ::open("/dev/null", O_WRONLY);
+        if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+        if (null >= 0) ::close(null);
+    }
+    ~QuietStderr() {
+        std::fflush(stderr);
+        if (saved_ >= 0) {
+            ::dup2(saved_, STDERR_FILENO);
+            ::close(saved_);
+        }
+    }
+    QuietStderr(const QuietStderr&) = delete;
+    QuietStderr& operator=(const QuietStderr&) = delete;
+
+private:
+    int saved_ = -1;
+};
+
+struct RawImage {
+    int width = 0, height = 0, channels = 0;
+    int alpha_channel = -1;
+    bool linear = false;  // float data: linear light, to be sRGB-encoded
+    std::vector<float> pixels;
+};
+
+RawImage read_raw(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    // Keep PNG alpha unassociated: a half-transparent edge pixel must keep its
+    // colour, not be darkened by premultiplication.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    QuietStderr quiet;
+    auto in = OIIO::ImageInput::open(path, &config);
+    if (!in) {
+        std::string why = OIIO::geterror();
+        fail_file(path, "cannot read as an image (" + (why.empty() ? "unknown format" : why) + ")");
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    RawImage img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    img.alpha_channel = spec.alpha_channel;
+    if (img.alpha_channel < 0 && (img.channels == 2 || img.channels == 4))
+        img.alpha_channel = img.channels - 1;  // gray+alpha or RGBA without the tag
+    img.linear = spec.format.is_floating_point();
+    if (img.width <= 0 || img.height <= 0 || img.channels <= 0)
+        fail_file(path, "the image is empty");
+    img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
+        std::string why = in->geterror();
+        fail_file(path, "the image data is corrupt (" + why + ")");
+    }
+    for (float v : img.pixels)
+        if (!std::isfinite(v)) fail_file(path, "the image contains NaN or infinite values");
+    return img;
+}
+
+std::uint8_t to_level(float v, bool linear) {
+    return linear ? display_level(v) : level_of_encoded(v);
+}
+
+}  // namespace
+
+Photo load_photo(const std::string& path, const std::string& mask_path) {
+    const RawImage img = read_raw(path);
+    Photo photo;
+    photo.path = path;
+    photo.width = img.width;
+    photo.height = img.height;
+    const std::size_t n = std::size_t(img.width) * img.height;
+    photo.levels.resize(n);
+    photo.foreground.assign(n, 1);
+
+    // Colour channels: the first three that are not alpha; gray images repeat
+    // their single channel.
+    std::vector<int> colour;
+    for (int c = 0; c < img.channels && colour.size() < 3; ++c)
+        if (c != img.alpha_channel) colour.push_back(c);
+    while (colour.size() < 3) colour.push_back(colour.back());
+
+    for (std::size_t i = 0; i < n; ++i) {
+        const float* p = &img.pixels[i * img.channels];
+        for (int c = 0; c < 3; ++c) photo.levels[i][c] = to_level(p[colour[c]], img.linear);
+        if (img.alpha_channel >= 0) photo.foreground[i] = p[img.alpha_channel] >= 0.5f;
+    }
+
+    if (!mask_path.empty()) {
+        const RawImage mask = read_raw(mask_path);
+        if (mask.width != img.width || mask.height != img.height)
+            fail_file(mask_path, "the mask is " + std::to_string(mask.width) + "x" +
+                                     std::to_string(mask.height) + " but the photo is " +
+                                     std::to_string(img.width) + "x" +
+                                     std::to_string(img.height));
+        for (std::size_t i = 0; i < n; ++i)
+            photo.foreground[i] = mask.pixels[i * mask.channels] >= 0.5f;
+        if (photo.foreground_count() == 0)
+            fail_file(mask_path, "the mask has no white (object) pixel");
+    }
+    if (photo.foreground_count() == 0)
+        fail_file(path, "no foreground pixel: every pixel has alpha below 0.5");
+    return photo;
+}
+
+}  // namespace jade

@@ -1,0 +1,365 @@
+// The jaderender binary run as a user runs it: a working command, and each
+// kind of bad input -> exit code 2, one line on stderr naming the problem,
+// and no output file left behind.
+
+#include "jade/io/image_io.h"
+
+#include "support/test_util.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+using jade_test::TempDir;
+
+namespace {
+
+struct Result {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+Result run(const TempDir& dir, const std::string& args) {
+    const std::string cmd = std::string(JADE_BINARY) + " " + args + " >" + dir.file("stdout.txt") +
+                            " 2>" + dir.file("stderr.txt") + " </dev/null";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir.file("stdout.txt"));
+    r.err = slurp(dir.file("stderr.txt"));
+    std::filesystem::remove(dir.file("stdout.txt"));
+    std::filesystem::remove(dir.file("stderr.txt"));
+    return r;
+}
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+void require_clean_failure(const TempDir& dir, const std::string& args, const std::string& names) {
+    INFO("jaderender " << args);
+    const Result r = run(dir, args);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Catch::Contains(names));
+    CHECK_FALSE(std::filesystem::exists(dir.file("out.vdb")));
+    // Nothing else either: no temporary file left in the output folder.
+    for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+        CHECK_THAT(e.path().filename().string(), !Catch::Contains("partial"));
+}
+
+}  // namespace
+
+TEST_CASE("volume: the demo photo gives a .vdb and a one-line summary", "[cli]") {
+    TempDir dir;
+    const Result r = run(dir, "volume --photo " JADE_DATA_DIR
+                              "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
+                                  dir.file("out.vdb") + " --preview " + dir.file("slice.png"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(std::filesystem::file_size(dir.file("out.vdb")) > 32u * 32u * 32u);
+    CHECK(std::filesystem::exists(dir.file("slice.png")));
+    CHECK(lines(r.out) == 1);
+    CHECK_THAT(r.out, Catch::Contains("32^3") && Catch::Contains("MB"));
+    CHECK(dir.entries() == 2);
+}
+
+TEST_CASE("--help documents the flags and exits 0", "[cli]") {
+    TempDir dir;
+    const Result r = run(dir, "volume --help");
+    CHECK(r.code == 0);
+    for (const char* flag : {"--photo", "--mask", "--resolution", "--octaves", "--k", "--seed",
+                             "--match", "--ds", "--da", "--out"})
+        CHECK_THAT(r.out, Catch::Contains(flag));
+}
+
+TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") {
+    TempDir dir;
+    const std::string out = " --out " + dir.file("out.vdb");
+    const std::string demo = JADE_DATA_DIR "/photos/ambientcg_Onyx002_512_diff.jpg";
+
+    require_clean_failure(dir, "volume --photo " + dir.file("missing.png") + out, "missing.png");
+
+    std::ofstream(dir.file("corrupt.png"), std::ios::binary) << "\x89PNG\r\n\x1a\ngarbage";
+    require_clean_failure(dir, "volume --photo " + dir.file("corrupt.png") + out, "corrupt.png");
+
+    jade::write_image_u8(dir.file("clear.png"), 2, 2, 4,
+                         {9, 9, 9, 0, 9, 9, 9, 0, 9, 9, 9, 0, 9, 9, 9, 0});
+    require_clean_failure(dir, "volume --photo " + dir.file("clear.png") + out, "no foreground");
+
+    jade::write_image_u8(dir.file("mask.png"), 3, 3, 1, std::vector<std::uint8_t>(9, 255));
+    require_clean_failure(dir, "volume --photo " + demo + " --mask " + dir.file("mask.png") + out,
+                          "mask.png");
+
+    require_clean_failure(dir, "volume --photo " + demo + " --k 2" + out, "--k");
+    require_clean_failure(dir, "volume --photo " + demo + " --resolution abc" + out, "--resolution");
+    require_clean_failure(dir, "volume --photo " + demo + " --match both" + out, "--match");
+    require_clean_failure(dir, "volume --photo " + demo + " --out " + dir.file("no/such/dir/v.vdb"),
+                          "does not exist");
+}
+
+// ---------------------------------------------------------------------------
+// jaderender render
+
+namespace {
+
+const std::string kBlob = std::string(JADE_DATA_DIR) + "/reference/blob.obj";
+
+std::vector<std::string> csv_rows(const std::string& path) {
+    std::vector<std::string> rows;
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) rows.push_back(line);
+    return rows;
+}
+
+}  // namespace
+
+TEST_CASE("render: a homogeneous medium writes EXR, PNG and convergence.csv", "[cli][render]") {
+    TempDir dir;
+    const Result r = run(dir, "render --mesh " + kBlob +
+                                  " --sigma-s 2,4,6 --sigma-a 0.5 --boundary fresnel --width 40 "
+                                  "--height 30 --spp 8 --transparent --out " + dir.file("r.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("estimated relative error"));
+    CHECK_THAT(r.out, Catch::Contains("samples/s"));
+    const jade::ImageF32 exr = jade::read_image_f32(dir.file("r.exr"));
+    CHECK(exr.width == 40);
+    CHECK(exr.height == 30);
+    CHECK(exr.channels == 4);
+    for (float v : exr.pixels) REQUIRE(std::isfinite(v));
+    // Transparent film: a corner misses the object (alpha 0, no colour), the centre is covered.
+    CHECK(exr.at(0, 0, 3) == 0.f);
+    CHECK(exr.at(0, 0, 0) == 0.f);
+    CHECK(exr.at(20, 15, 3) == 1.f);
+    const jade::ImageF32 png = jade::read_image_f32(dir.file("r.png"));
+    CHECK(png.channels == 4);
+    const auto rows = csv_rows(dir.file("convergence.csv"));
+    REQUIRE(rows.size() >= 3);
+    CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse");
+    CHECK(rows.back().rfind("2,8,", 0) == 0);  // passes 0, 1, 2 of 2, 2, 4 samples: 8 spp
+}
+
+TEST_CASE("render: a saved volume on another mesh, against a reference, stopped by time",
+          "[cli][render]") {
+    TempDir dir;
+    REQUIRE(run(dir, "volume --photo " + std::string(JADE_DATA_DIR) +
+                         "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
+                         dir.file("v.vdb")).code == 0);
+    // First render: the reference for the second.
+    REQUIRE(run(dir, "render --volume " + dir.file("v.vdb") + " --mesh " + std::string(JADE_DATA_DIR) +
+                         "/meshes/spot-cow.obj --width 24 --height 24 --spp 4 --png '' --convergence '' "
+                         "--out " + dir.file("ref.exr")).code == 0);
+    CHECK_FALSE(std::filesystem::exists(dir.file("ref.png")));
+    const Result r = run(dir, "render --volume " + dir.file("v.vdb") + " --mesh " +
+                                  std::string(JADE_DATA_DIR) + "/meshes/spot-cow.obj --width 24 "
+                                  "--height 24 --spp 100000 --time 1 --reference " + dir.file("ref.exr") +
+                                  " --out " + dir.file("r.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("stopped by time"));
+    CHECK_THAT(r.out, Catch::Contains("RMSE"));
+    CHECK_THAT(r.out, Catch::Contains("jaderender volume 32^3 on the mesh's cube"));
+    const auto rows = csv_rows(dir.file("convergence.csv"));
+    REQUIRE(rows.size() >= 2);
+    CHECK(rows.back().find(",,") == std::string::npos);  // RMSE columns filled
+}
+
+TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][render]") {
+    TempDir dir;
+    const std::string out = " --out " + dir.file("r.exr");
+    const std::string medium = " --sigma-s 1 --sigma-a 1";
+    struct Case {
+        std::string args, names;
+    };
+    const Case cases[] = {
+        {"render --mesh " + dir.file("none.obj") + medium + out, "none.obj"},
+        {"render --mesh " + kBlob + out, "--volume"},
+        {"render --mesh " + kBlob + medium + " --volume " + dir.file("v.vdb") + out, "--volume"},
+        {"render --mesh " + kBlob + medium + " --boundary glass" + out, "--boundary"},
+        {"render --mesh " + kBlob + medium + " --light-dir 0,0" + out, "--light-dir"},
+        {"render --mesh " + kBlob + medium + " --ior 0.5" + out, "--ior"},
+        {"render --mesh " + kBlob + medium + " --env " + dir.file("sky.exr") + out, "sky.exr"},
+        {"render --mesh " + kBlob + medium + " --reference " + kBlob + out, "blob.obj"},
+        {"render --mesh " + kBlob + medium + " --out " + dir.file("no/such/r.exr"), "does not exist"},
+        {"render --mesh " + kBlob + medium + " --spp 0" + out, "--spp"},
+        // A fitting flag belongs to the pipeline, not to render.
+        {"render --mesh " + kBlob + medium + " --render-seed 2" + out, "--render-seed"},
+    };
+    for (const Case& c : cases) {
+        INFO("jaderender " << c.args);
+        const Result r = run(dir, c.args);
+        CHECK(r.code == 2);
+        CHECK(lines(r.err) == 1);
+        CHECK_THAT(r.err, Catch::Contains(c.names));
+        CHECK(dir.entries() == 0);
+    }
+}
+
+TEST_CASE("render: an open mesh is rendered with a warning, a badly open one refused", "[cli][render]") {
+    TempDir dir;
+    // A unit cube without its top face: 4 of 18 edges border the hole.
+    {
+        std::ofstream obj(dir.file("open.obj"));
+        obj << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+               "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
+               "f 4 1 5\nf 4 5 8\n";
+    }
+    const std::string args = "render --mesh " + dir.file("open.obj") +
+                             " --sigma-s 1 --sigma-a 1 --width 8 --height 8 --spp 2 --out " + dir.file("r.exr");
+    const Result refused = run(dir, args);
+    CHECK(refused.code == 2);
+    CHECK(lines(refused.err) == 1);
+    CHECK_THAT(refused.err, Catch::Contains("badly open") && Catch::Contains("--allow-open"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("r.exr")));
+
+    const Result allowed = run(dir, args + " --allow-open");
+    CHECK(allowed.code == 0);
+    CHECK_THAT(allowed.err, Catch::Contains("warning") && Catch::Contains("not closed") &&
+                                Catch::Contains("4 open"));
+    CHECK(std::filesystem::exists(dir.file("r.exr")));
+}
+
+// ---------------------------------------------------------------------------
+// jaderender --photo P --mesh M: the whole fit
+
+namespace {
+
+const std::string kCow = std::string(JADE_DATA_DIR) + "/meshes/spot-cow.obj";
+// Small and quick: a 32^3 volume, 48x48 renders.
+const std::string kSmall = " --resolution 32 --width 48 --height 48 --spp 8 --fit-width 48 --fit-spp 16 ";
+
+std::string json_field(const std::string& json, const std::string& key) {
+    const auto at = json.find("\"" + key + "\"");
+    if (at == std::string::npos) return "";
+    const auto colon = json.find(':', at);
+    const auto end = json.find_first_of(",\n}", colon);
+    return json.substr(colon + 1, end - colon - 1);
+}
+
+}  // namespace
+
+TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back", "[cli][fit]") {
+    TempDir dir;
+    // A volume with strong absorption contrast (d_a = 1) and a dark
+    // environment, where brightness depends on k_s by 5-15 gray levels per
+    // unit; the "photo" is its render at k_s = (0.3, 0.1, -0.05) with 4096 spp
+    // (so the photo's own noise moves its A by well under a level).
+    REQUIRE(run(dir, "volume --photo " + std::string(JADE_DATA_DIR) +
+                         "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --da 1 --out " +
+                         dir.file("v.vdb")).code == 0);
+    REQUIRE(run(dir, "render --volume " + dir.file("v.vdb") + " --mesh " + kCow +
+                         " --ks 0.3,0.1,-0.05 --env 0.02 --transparent --width 48 --height 48 --spp 4096 --out " +
+                         dir.file("photo.exr")).code == 0);
+    const Result r = run(dir, "--photo " + dir.file("photo.png") + " --mesh " + kCow + " --volume " +
+                                  dir.file("v.vdb") + " --env 0.02 --width 48 --height 48 --spp 4 "
+                                  "--fit-width 48 --exposure 1 --out " + dir.file("fit"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
+    const std::string report = slurp(dir.file("fit/report.json"));
+    CHECK(json_field(report, "converged") == " true");
+    // The fitted k_s (the best per channel, in report.json's "ks" array).
+    const auto at = report.find("\"ks\": [");
+    REQUIRE(at != std::string::npos);
+    std::stringstream ks(report.substr(report.find('[', at) + 1));
+    const double truth[3] = {0.3, 0.1, -0.05};
+    for (int c = 0; c < 3; ++c) {
+        double k = 0;
+        char sep;
+        ks >> k >> sep;
+        // |dA| < 1 leaves k_s free within about 1 / (5..15 levels per unit).
+        CHECK(std::abs(k - truth[c]) < 0.12);
+    }
+}
+
+TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly", "[cli][fit]") {
+    TempDir dir;
+    const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 3 --out " +
+                                  dir.file("o"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv",
+                          "compare.png", "report.json"})
+        CHECK(std::filesystem::exists(dir.file(std::string("o/") + f)));
+    // Header + the two renders at the k_s bounds + at most one more (the cap is 3).
+    const auto fit_rows = csv_rows(dir.file("o/fit.csv"));
+    CHECK(fit_rows.size() >= 3);
+    CHECK(fit_rows.size() <= 4);
+    // The saved volume carries the fitted k_s: render it with another mesh.
+    CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
+                       " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);
+    CHECK_FALSE(json_field(slurp(dir.file("o/report.json")), "total").empty());
+    // Given back to the pipeline with --fit none, the volume keeps its fitted k_s.
+    const Result again = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --volume " +
+                                      dir.file("o/volume.vdb") + " --fit none --out " + dir.file("o2"));
+    INFO(again.out << again.err);
+    REQUIRE(again.code == 0);
+    auto printed_ks = [](const std::string& out) {  // "k_s = (r, g, b)" of the summary
+        const auto at = out.find("k_s = (");
+        return at == std::string::npos ? std::string() : out.substr(at, out.find(')', at) - at);
+    };
+    CHECK_FALSE(printed_ks(r.out).empty());
+    CHECK(printed_ks(again.out) == printed_ks(r.out));
+
+    const std::string base = "--photo " + photo + " --mesh " + kCow + kSmall;
+    struct Bad {
+        std::string args, names;
+    };
+    const Bad bad[] = {
+        {"--mesh " + kCow + " --out " + dir.file("b"), "--photo"},
+        {"--photo " + photo + " --out " + dir.file("b"), "--mesh"},
+        {base + " --fit newton --out " + dir.file("b"), "--fit"},
+        {base + " --out " + dir.file("no/such/b"), "does not exist"},
+        {base + " --fit-max-renders 0 --out " + dir.file("b"), "--fit-max-renders"},
+    };
+    for (const Bad& b : bad) {
+        INFO("jaderender " << b.args);
+        const Result e = run(dir, b.args);
+        CHECK(e.code == 2);
+        CHECK(lines(e.err) == 1);
+        CHECK_THAT(e.err, Catch::Contains(b.names));
+        CHECK_FALSE(std::filesystem::exists(dir.file("b")));
+    }
+}
+
+TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained results", "[cli][fit]") {
+    TempDir dir;
+    struct Photo {
+        const char* name;
+        std::uint8_t r, g, b;
+        double foreground;  // share of pixels with alpha 255
+    };
+    const Photo photos[] = {{"flat", 120, 160, 110, 1.0}, {"tiny", 200, 150, 100, 0.02},
+                            {"dark", 6, 5, 4, 1.0},        {"white", 252, 253, 254, 1.0}};
+    for (const Photo& p : photos) {
+        INFO(p.name);
+        const int w = 50, h = 50;
+        std::vector<std::uint8_t> px;
+        for (int i = 0; i < w * h; ++i) {
+            const bool fg = (i % w) < int(std::lround(p.foreground * w)) && (i / w) < int(std::lround(std::max(1.0, p.foreground * h * 50)));
+            px.insert(px.end(), {p.r, p.g, p.b, std::uint8_t(fg ? 255 : 0)});
+        }
+        const std::string path = dir.file(std::string(p.name) + ".png");
+        jade::write_image_u8(path, w, h, 4, px);
+        const Result r = run(dir, "--photo " + path + " --mesh " + kCow + kSmall + " --fit-max-renders 12 --out " +
+                                      dir.file(std::string(p.name) + "-out"));
+        INFO(r.out << r.err);
+        CHECK(r.code == 0);
+        CHECK(std::filesystem::exists(dir.file(std::string(p.name) + "-out/report.json")));
+        // Either converged, or every channel that did not says why.
+        if (r.out.find("NOT converged") != std::string::npos)
+            CHECK_THAT(r.err, Catch::Contains("warning: fit:"));
+        else
+            CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
+    }
+}

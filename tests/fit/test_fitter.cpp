@@ -1,0 +1,200 @@
+// The k_s drivers on known brightness functions (no rendering): the paper's
+// stepping takes its number of steps, bisection converges in O(log) renders,
+// both stop when the target cannot be reached. And the display-space
+// statistics of a film against hand-computed histograms.
+
+#include "jade/fit/display.h"
+#include "jade/fit/driver.h"
+#include "jade/core/display.h"
+#include "jade/core/random.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <functional>
+
+using namespace jade;
+
+namespace {
+
+struct Run {
+    int renders = 0;
+    std::array<double, 3> k{};
+    std::array<ChannelState, 3> state{};
+};
+
+// Drives `method` on A_c(k) = brightness[c](k) against targets, as the pipeline does.
+Run drive(FitMethod method, const std::array<std::function<double(double)>, 3>& brightness,
+          const std::array<double, 3>& target, const FitLimits& limits, int cap = 200) {
+    FitDriver d(method, {0, 0, 0}, limits);
+    Run r;
+    while (!d.done() && r.renders < cap) {
+        std::array<double, 3> delta;
+        for (int c = 0; c < 3; ++c) delta[c] = brightness[c](d.k()[c]) - target[c];
+        d.observe(delta);
+        ++r.renders;
+    }
+    r.k = d.best_k();
+    for (int c = 0; c < 3; ++c) r.state[c] = d.state(c);
+    return r;
+}
+
+FitLimits limits() {
+    FitLimits l;
+    l.k_min = {-0.5, -0.5, -0.5};
+    l.k_max = 20.0;
+    return l;
+}
+
+}  // namespace
+
+TEST_CASE("step driver: the paper's number of 0.01 steps", "[fitter]") {
+    // A = 120 + 150 k: the target 140 is met (|dA| < 1) first at k = 0.13,
+    // the 14th render (k = 0, 0.01, ..., 0.13). Channel 2 moves down.
+    auto lin = [](double k) { return 120.0 + 150.0 * k; };
+    const Run r = drive(FitMethod::Step, {lin, lin, lin}, {140.0, 120.5, 112.3}, limits());
+    CHECK(r.state[0] == ChannelState::Converged);
+    CHECK(r.k[0] == Approx(0.13));
+    CHECK(r.k[1] == Approx(0.0));
+    CHECK(r.k[2] == Approx(-0.05));  // 120 - 7.5 = 112.5, |dA| = 0.2
+    CHECK(r.renders == 14);
+}
+
+TEST_CASE("bisect driver: O(log) renders on smooth and on saturating brightness", "[fitter]") {
+    auto lin = [](double k) { return 120.0 + 150.0 * k; };
+    auto sat = [](double k) { return 100.0 + 80.0 * (1.0 - std::exp(-k)); };  // flattens out
+    auto steep = [](double k) { return 60.0 + 900.0 * k; };                   // one 0.01 step = 9 levels
+    const Run r = drive(FitMethod::Bisect, {lin, sat, steep}, {170.0, 175.0, 73.0}, limits());
+    for (int c = 0; c < 3; ++c) CHECK(r.state[c] == ChannelState::Converged);
+    CHECK(std::abs(lin(r.k[0]) - 170.0) < 1.0);
+    CHECK(std::abs(sat(r.k[1]) - 175.0) < 1.0);
+    CHECK(std::abs(steep(r.k[2]) - 73.0) < 1.0);
+    // A root 2.6 away needs 2.6 / 0.01 = 260 steps of the paper's driver.
+    CHECK(r.renders <= 12);
+}
+
+TEST_CASE("the step driver reports a goal its steps jump over", "[fitter]") {
+    auto steep = [](double k) { return 60.0 + 900.0 * k; };
+    const Run r = drive(FitMethod::Step, {steep, steep, steep}, {73.0, 60.2, 73.0}, limits());
+    CHECK(r.state[0] == ChannelState::Unreachable);
+    CHECK(r.state[1] == ChannelState::Converged);
+    CHECK(std::abs(steep(r.k[0]) - 73.0) <= 4.5);  // the best grid point is kept
+    CHECK(r.renders < 10);
+}
+
+TEST_CASE("both drivers stop when no k_s reaches the target, in either direction", "[fitter]") {
+    auto sat = [](double k) { return 100.0 + 80.0 * (1.0 - std::exp(-k)); };
+    for (FitMethod m : {FitMethod::Step, FitMethod::Bisect}) {
+        // Brighter than the material can be, and darker than at k_min = -0.5 (A = 48.1).
+        const Run r = drive(m, {sat, sat, sat}, {200.0, 20.0, 150.0}, limits(), 100000);
+        INFO(to_string(m));
+        CHECK(r.state[0] == ChannelState::Unreachable);
+        CHECK(r.state[1] == ChannelState::Unreachable);
+        CHECK(r.state[2] == ChannelState::Converged);
+        CHECK(r.k[0] == Approx(20.0));
+        CHECK(r.k[1] == Approx(-0.5));
+        if (m == FitMethod::Bisect) CHECK(r.renders <= 16);
+        else CHECK(r.renders <= 2002);  // the paper's steps walk to k_max = 20
+    }
+    FitDriver none(FitMethod::None, {0.1, 0.2, 0.3}, limits());
+    CHECK(none.done());
+}
+
+TEST_CASE("display statistics: exposure, sRGB, 8 bits, object pixels only", "[fitter]") {
+    Film f(3, 1);
+    // Pixels 0 and 1: linear 0.25 × exposure 2 = 0.5 (sRGB level 188),
+    // covered; pixel 2 not covered, so it does not count.
+    f.add_sample(0, 0, Spectrum(0.25f), true);
+    f.add_sample(1, 0, Spectrum(0.25f), true);
+    f.add_sample(2, 0, Spectrum(1.f), false);
+    f.set_spp(1);
+    const DisplayStatistics s = display_statistics(f, 2.f);
+    CHECK(s.pixels == 2);
+    const int level = int(std::lround(255.0 * srgb_encode(0.5)));
+    CHECK(s.a[0] == Approx(level));
+    CHECK(s.histogram.proportion(1, level) == Approx(1.0));
+}
+
+TEST_CASE("bisect from renders at both bounds: bracketed channels halve, the others stop", "[fitter]") {
+    auto sat = [](double k) { return 100.0 + 80.0 * (1.0 - std::exp(-k)); };  // 59.5 at -0.5, 178.5 at 4
+    FitLimits l = limits();
+    l.k_max = 4.0;
+    FitDriver d(FitMethod::Bisect, {0, 0, 0}, l);
+    const std::array<double, 3> target{150.0, 190.0, 30.0};
+    std::array<double, 3> lo, hi;
+    for (int c = 0; c < 3; ++c) {
+        lo[c] = sat(-0.5) - target[c];
+        hi[c] = sat(4.0) - target[c];
+    }
+    d.observe_bounds(lo, hi);
+    CHECK(d.state(1) == ChannelState::Unreachable);  // darker than the photo at k_max
+    CHECK(d.state(2) == ChannelState::Unreachable);  // brighter at k_min
+    CHECK(d.k()[0] == Approx(1.75));                 // the bracket's middle
+    int renders = 2;
+    while (!d.done() && renders < 50) {
+        d.observe({sat(d.k()[0]) - target[0], 0.0, 0.0});
+        ++renders;
+    }
+    CHECK(d.state(0) == ChannelState::Converged);
+    CHECK(std::abs(sat(d.best_k()[0]) - 150.0) < 1.0);
+    CHECK(renders <= 10);  // 4.5 wide, slope >= 15 per unit near the root: ~5 halvings
+}
+
+TEST_CASE("A is corrected for the bias noise puts into a concave display curve", "[fitter]") {
+    // Pixels of true linear value 0.3, each the mean of 4 samples uniform on
+    // [0, 0.6]: the mean of their sRGB levels lies ~1.7 levels below
+    // 255·srgb(0.3); the corrected A must not.
+    const int n = 128, spp = 4;
+    Film f(n, n);
+    SplitMix64 rng(11);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            for (int s = 0; s < spp; ++s) f.add_sample(x, y, Spectrum(float(0.6 * rng.uniform())), true);
+    f.set_spp(spp);
+    const DisplayStatistics st = display_statistics(f, 1.f);
+    const double truth = 255.0 * srgb_encode(0.3);
+    INFO("A " << st.a[0] << " (histogram " << st.histogram.mean(0) << ") vs " << truth << " +- " << st.a_sigma[0]);
+    CHECK(st.histogram.mean(0) < truth - 1.0);                     // the raw mean is biased low
+    CHECK(std::abs(st.a[0] - truth) < 4 * st.a_sigma[0] + 0.05);  // the corrected one is not
+}
+
+TEST_CASE("the fitting exposure lies where every channel can reach the photo, and is always finite",
+          "[fitter]") {
+    // One-pixel films: linear value v shows as level round(255 srgb(e v)).
+    auto film = [](Spectrum v) {
+        Film f(1, 1);
+        f.add_sample(0, 0, v, true);
+        f.set_spp(1);
+        return f;
+    };
+    auto exposure_for = [](double linear, double level) {  // e with 255 srgb(e v) = level
+        return srgb_decode(level / 255.0) / linear;
+    };
+    const Film lo = film(Spectrum(0.02f, 0.04f, 0.05f));
+    const Film hi = film(Spectrum(0.2f, 0.3f, 0.4f));
+    const std::array<double, 3> photo{150, 120, 100};
+    // Channel c reaches the photo for e in [photo at hi, photo at lo]; the
+    // shared range is [max over c of the first, min over c of the second].
+    double lower = 0, upper = 1e9;
+    for (int c = 0; c < 3; ++c) {
+        lower = std::max(lower, exposure_for(hi.mean(0, 0)[c], photo[c]));
+        upper = std::min(upper, exposure_for(lo.mean(0, 0)[c], photo[c]));
+    }
+    REQUIRE(lower < upper);
+    const double e = exposure_in_reach(lo, hi, photo);
+    // Levels are integers, so the bounds found on them are within a level's width.
+    CHECK(e == Approx(std::sqrt(lower * upper)).epsilon(0.02));
+    CHECK(e > lower);
+    CHECK(e < upper);
+
+    // A black render at k_max (no exposure can brighten it) and an empty one:
+    // finite, positive, inside [1e-4, 1e4].
+    const Film black = film(Spectrum(0.f));
+    const double x = exposure_in_reach(black, black, photo);
+    CHECK(std::isfinite(x));
+    CHECK(x >= 1e-4);
+    CHECK(x <= 1e4);
+    const double empty = exposure_in_reach(Film(2, 2), Film(2, 2), photo);
+    CHECK(std::isfinite(empty));
+    CHECK(empty > 0);
+}

@@ -1,0 +1,81 @@
+// Embree ray queries against analytic geometry: distances, normals, and no
+// ray escaping a closed surface through its edges.
+
+#include "jade/geometry/mesh_accel.h"
+#include "jade/core/random.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+
+using namespace jade;
+
+namespace {
+
+TriangleMesh unit_box() {  // [-1, 1]^3, outward winding
+    TriangleMesh m;
+    m.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                   {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    const std::uint32_t quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                       {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    for (const auto& q : quads) {
+        m.triangles.push_back({q[0], q[1], q[2]});
+        m.triangles.push_back({q[0], q[2], q[3]});
+    }
+    m.normals.assign(m.positions.size(), glm::vec3(0, 0, 1));
+    return m;
+}
+
+// Distance from p (inside the box) along unit d to the box's surface.
+float exit_distance(glm::vec3 p, glm::vec3 d) {
+    float t = 1e30f;
+    for (int k = 0; k < 3; ++k)
+        if (d[k] != 0.f) t = std::min(t, ((d[k] > 0 ? 1.f : -1.f) - p[k]) / d[k]);
+    return t;
+}
+
+}  // namespace
+
+TEST_CASE("rays hit the box at the analytic distance with outward normals", "[mesh_accel]") {
+    const TriangleMesh box = unit_box();
+    const MeshAccel accel(box, true);
+    auto hit = accel.intersect({0.2f, -0.3f, 5.f}, {0, 0, -1}, 0.f, 1e30f);
+    REQUIRE(hit);
+    CHECK(hit->t == Approx(4.f));
+    CHECK(hit->geometric_normal == glm::vec3(0, 0, 1));
+    CHECK(hit->shading_normal == glm::vec3(0, 0, 1));  // flat: face normal
+
+    hit = accel.intersect({0, 0, 0}, {1, 0, 0}, 0.f, 1e30f);
+    REQUIRE(hit);
+    CHECK(hit->t == Approx(1.f));
+    CHECK(hit->geometric_normal == glm::vec3(1, 0, 0));  // outward, seen from inside too
+
+    CHECK_FALSE(accel.intersect({5, 5, 5}, {0, 0, 1}, 0.f, 1e30f));
+    CHECK_FALSE(accel.intersect({0, 0, 5}, {0, 0, -1}, 0.f, 3.f));  // beyond tmax
+}
+
+TEST_CASE("no ray escapes the closed box, not even along the triangles' shared edges",
+          "[mesh_accel]") {
+    const TriangleMesh box = unit_box();
+    const MeshAccel accel(box);
+    SplitMix64 rng(8);
+    for (int i = 0; i < 100000; ++i) {
+        const glm::vec3 p(float(rng.uniform() * 1.8 - 0.9), float(rng.uniform() * 1.8 - 0.9),
+                          float(rng.uniform() * 1.8 - 0.9));
+        glm::vec3 d;
+        if (i % 2 == 0) {  // uniform direction
+            const double z = 1 - 2 * rng.uniform(), phi = 2 * 3.14159265358979 * rng.uniform();
+            const double r = std::sqrt(1 - z * z);
+            d = glm::vec3(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z));
+        } else {  // aimed at a face diagonal or a box edge: the seams
+            const glm::vec3 on_seam = (i % 4 == 1) ? glm::vec3(0.37f, 0.37f, 1.f)
+                                                   : glm::vec3(1.f, 1.f, float(rng.uniform() * 2 - 1));
+            d = glm::normalize(on_seam - p);
+        }
+        const auto hit = accel.intersect(p, d, 0.f, 1e30f);
+        REQUIRE(hit);
+        REQUIRE(hit->t == Approx(exit_distance(p, d)).epsilon(1e-4));
+        REQUIRE(glm::dot(hit->geometric_normal, d) > 0.f);  // leaving through the outside face
+    }
+}

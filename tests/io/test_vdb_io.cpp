@@ -1,0 +1,265 @@
+// The .vdb file: exact round trip, and what plain OpenVDB sees in it.
+
+#include "jade/core/error.h"
+#include "jade/volume/material_volume.h"
+#include "jade/io/vdb_io.h"
+
+#include "support/test_util.h"
+
+#include <catch2/catch.hpp>
+#include <openvdb/openvdb.h>
+
+#include <fstream>
+
+using namespace jade;
+using jade_test::TempDir;
+
+namespace {
+
+MaterialVolume sample_volume(int s, OpticalParams optics) {
+    Photo photo;
+    photo.path = "stone.png";
+    photo.width = 32;
+    photo.height = 32;
+    for (int i = 0; i < 1024; ++i) {
+        photo.levels.push_back(
+            {std::uint8_t(i % 256), std::uint8_t((i * 7) % 256), std::uint8_t(255 - i % 256)});
+        photo.foreground.push_back(1);
+    }
+    NoiseParams n;
+    n.resolution = s;
+    n.seed = 11;
+    MaterialVolume v = build_material_volume(photo, n, MatchMode::Joint, optics);
+    v.cube.min = {-1.0, 0.5, 2.0};
+    v.cube.side = 3.0;
+    return v;
+}
+
+void require_same(const MaterialVolume& a, const MaterialVolume& b) {
+    REQUIRE(a.resolution == b.resolution);
+    CHECK(a.levels == b.levels);
+    CHECK(a.noise.octave_count() == b.noise.octave_count());
+    CHECK(a.noise.k == b.noise.k);
+    CHECK(a.noise.seed == b.noise.seed);
+    CHECK(a.match == b.match);
+    CHECK(a.optics.ds == b.optics.ds);
+    CHECK(a.optics.da == b.optics.da);
+    CHECK(a.optics.ks == b.optics.ks);
+    CHECK(a.optics.density_scale == b.optics.density_scale);
+    CHECK(a.cube.min == b.cube.min);
+    CHECK(a.cube.side == b.cube.side);
+    CHECK(a.photo == b.photo);
+}
+
+}  // namespace
+
+TEST_CASE("write -> read round trip is exact", "[vdb]") {
+    TempDir dir;
+    OpticalParams defaults;
+    OpticalParams fitted;
+    fitted.ks = {0.3, -0.2, 0.05};  // a negative k_s clamps some sigma_s at 0
+    fitted.da = 0.25;
+    OpticalParams no_absorption;  // levels must then come from sigma_s
+    no_absorption.da = 0.0;
+    no_absorption.ks = {0.1, 0.0, 2.0};
+    for (const OpticalParams& optics : {defaults, fitted, no_absorption}) {
+        // 20 is not a multiple of the 8-voxel leaf: partial leaves too.
+        const MaterialVolume v = sample_volume(20, optics);
+        write_material_vdb(dir.file("v.vdb"), v);
+        require_same(v, read_material_vdb(dir.file("v.vdb")));
+    }
+}
+
+TEST_CASE("plain OpenVDB sees four fog-volume grids with the documented names, types and "
+          "transform", "[vdb]") {
+    TempDir dir;
+    OpticalParams optics;
+    optics.ks = {0.1, 0.2, -0.05};
+    const MaterialVolume v = sample_volume(16, optics);
+    write_material_vdb(dir.file("v.vdb"), v);
+
+    openvdb::initialize();
+    openvdb::io::File file(dir.file("v.vdb"));
+    file.open();
+    auto grids = file.getGrids();
+    auto meta = file.getMetadata();
+    file.close();
+    REQUIRE(grids->size() == 4);
+
+    std::map<std::string, openvdb::GridBase::Ptr> by_name;
+    for (auto& g : *grids) by_name[g->getName()] = g;
+    auto ss = openvdb::gridPtrCast<openvdb::Vec3fGrid>(by_name["sigma_s"]);
+    auto sa = openvdb::gridPtrCast<openvdb::Vec3fGrid>(by_name["sigma_a"]);
+    auto density = openvdb::gridPtrCast<openvdb::FloatGrid>(by_name["density"]);
+    auto color = openvdb::gridPtrCast<openvdb::Vec3fGrid>(by_name["color"]);
+    REQUIRE(ss);
+    REQUIRE(sa);
+    REQUIRE(density);
+    REQUIRE(color);
+    const double h = 3.0 / 16;
+    for (auto& g : *grids) {
+        CHECK(g->getGridClass() == openvdb::GRID_FOG_VOLUME);
+        CHECK(g->activeVoxelCount() == 16u * 16u * 16u);
+        // Voxel (i,j,k) centred at cube.min + (i + 1/2) h.
+        const openvdb::Vec3d p0 = g->indexToWorld(openvdb::Vec3d(0, 0, 0));
+        CHECK(p0.x() == Approx(-1.0 + 0.5 * h));
+        CHECK(p0.y() == Approx(0.5 + 0.5 * h));
+        CHECK(p0.z() == Approx(2.0 + 0.5 * h));
+        CHECK(g->voxelSize().x() == Approx(h));
+        CHECK(g->evalActiveVoxelBoundingBox() ==
+              openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(15)));
+    }
+
+    // Values: the documented formulas, to half-float precision.
+    const CoefficientTable table(v.optics, v.cube.side);
+    for (const openvdb::Coord xyz : {openvdb::Coord(0, 0, 0), openvdb::Coord(5, 9, 15)}) {
+        const Rgb8 lv = v.levels[v.index(xyz.x(), xyz.y(), xyz.z())];
+        const auto s = ss->tree().getValue(xyz), a = sa->tree().getValue(xyz),
+                   alb = color->tree().getValue(xyz);
+        double mean_t = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double want_s = paper_sigma_s(lv[c], c, v.optics) * 20.0 / 3.0;
+            const double want_a = paper_sigma_a(lv[c], v.optics) * 20.0 / 3.0;
+            CHECK(s[c] == Approx(want_s).epsilon(1e-3).margin(1e-6));
+            CHECK(a[c] == Approx(want_a).epsilon(1e-3).margin(1e-6));
+            CHECK(alb[c] == Approx(want_s / (want_s + want_a)).epsilon(2e-3));
+            mean_t += (want_s + want_a) / 3.0;
+        }
+        CHECK(density->tree().getValue(xyz) == Approx(mean_t).epsilon(1e-3));
+    }
+
+    for (const char* key : {"jade:format", "jade:format_version", "jade:jaderender_version",
+                            "jade:photo", "jade:resolution", "jade:octaves", "jade:k", "jade:seed",
+                            "jade:match", "jade:ds", "jade:da", "jade:ks", "jade:density_scale",
+                            "jade:cube_min", "jade:cube_side", "jade:units"}) {
+        INFO(key);
+        CHECK((*meta)[key]);
+    }
+    CHECK(meta->metaValue<std::string>("jade:match") == "joint");
+    CHECK(meta->metaValue<openvdb::Vec3d>("jade:ks") == openvdb::Vec3d(0.1, 0.2, -0.05));
+}
+
+TEST_CASE("reading a file that is not a jaderender volume is one clear error", "[vdb]") {
+    TempDir dir;
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("none.vdb")), Catch::Contains("no such file"));
+    std::ofstream(dir.file("junk.vdb")) << "this is not a vdb";
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("junk.vdb")), Catch::Contains("junk.vdb"));
+
+    openvdb::initialize();
+    auto g = openvdb::FloatGrid::create(0.f);
+    g->setName("density");
+    openvdb::io::File(dir.file("foreign.vdb")).write({g});
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("foreign.vdb")), Catch::Contains("foreign.vdb"));
+
+    // Grids edited after writing no longer follow from the metadata.
+    const MaterialVolume v = sample_volume(8, OpticalParams{});
+    write_material_vdb(dir.file("v.vdb"), v);
+    openvdb::io::File f(dir.file("v.vdb"));
+    f.open();
+    auto grids = f.getGrids();
+    auto meta = f.getMetadata();
+    f.close();
+    for (auto& base : *grids)
+        if (base->getName() == "sigma_s")
+            openvdb::gridPtrCast<openvdb::Vec3fGrid>(base)->tree().setValue(
+                openvdb::Coord(1, 2, 3), openvdb::Vec3f(99.f));
+    openvdb::io::File(dir.file("edited.vdb")).write(*grids, *meta);
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("edited.vdb")),
+                      Catch::Contains("do not follow from"));
+}
+
+// ---------------------------------------------------------------------------
+// Foreign .vdb media (the renderer's --volume with another tool's grids)
+
+namespace {
+
+// Writes `grids` (all sharing one transform: voxel size h, offset) to path.
+void write_grids(const std::string& path, const openvdb::GridPtrVec& grids) {
+    openvdb::io::File(path).write(grids);
+}
+
+openvdb::math::Transform::Ptr placement(double h, openvdb::Vec3d offset) {
+    auto xf = openvdb::math::Transform::createLinearTransform(h);
+    xf->postTranslate(offset);
+    return xf;
+}
+
+}  // namespace
+
+TEST_CASE("foreign density + color grids become coefficients in world space", "[vdb]") {
+    openvdb::initialize();
+    TempDir dir;
+    const auto xf = placement(0.25, {1.0, 0.0, -2.0});
+    auto density = openvdb::FloatGrid::create(0.f);
+    density->setName("density");
+    density->setTransform(xf);
+    auto color = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
+    color->setName("color");
+    color->setTransform(xf);
+    // Active voxels (2..4, 1..2, 0..0): density = i, color = (0.5, 1, 0).
+    for (int i = 2; i <= 4; ++i)
+        for (int j = 1; j <= 2; ++j) {
+            density->tree().setValue(openvdb::Coord(i, j, 0), float(i));
+            color->tree().setValue(openvdb::Coord(i, j, 0), openvdb::Vec3f(0.5f, 1.f, 0.f));
+        }
+    write_grids(dir.file("d.vdb"), {density, color});
+    CHECK_FALSE(is_material_vdb(dir.file("d.vdb")));
+
+    DensityConversion conv;
+    conv.scale = 10.f;
+    const CoefficientGrids g = read_medium_vdb(dir.file("d.vdb"), conv);
+    // Dense over the active bounding box; voxel (2, 1, 0) is centred at offset + (2, 1, 0) h.
+    CHECK(g.placement.size == std::array<int, 3>{3, 2, 1});
+    CHECK(g.placement.origin.x == Approx(1.5f));
+    CHECK(g.placement.origin.y == Approx(0.25f));
+    CHECK(g.placement.origin.z == Approx(-2.f));
+    CHECK(g.placement.spacing.x == Approx(0.25f));
+    // σ_t = 10 · density, σ_s = albedo · σ_t, σ_a = (1 − albedo) · σ_t.
+    const Spectrum s = g.sigma_s[(0 * 2 + 1) * 3 + 2];  // voxel (4, 2, 0)
+    const Spectrum a = g.sigma_a[(0 * 2 + 1) * 3 + 2];
+    CHECK(s.x == Approx(20.f));
+    CHECK(s.y == Approx(40.f));
+    CHECK(s.z == Approx(0.f));
+    CHECK(a.x == Approx(20.f));
+    CHECK(a.z == Approx(40.f));
+
+    // Without a color grid the albedo comes from the conversion.
+    write_grids(dir.file("d2.vdb"), {density});
+    conv.albedo = Spectrum(0.25f);
+    const CoefficientGrids g2 = read_medium_vdb(dir.file("d2.vdb"), conv);
+    CHECK(g2.sigma_s[0].x == Approx(0.25f * 20.f));
+    CHECK(g2.sigma_a[0].x == Approx(0.75f * 20.f));
+}
+
+TEST_CASE("foreign sigma grids may be float, rotated or missing grids are refused", "[vdb]") {
+    openvdb::initialize();
+    TempDir dir;
+    const auto xf = placement(0.5, {0.0, 0.0, 0.0});
+    auto ss = openvdb::FloatGrid::create(0.f);
+    ss->setName("sigma_s");
+    ss->setTransform(xf);
+    auto sa = openvdb::Vec3fGrid::create(openvdb::Vec3f(0.f));
+    sa->setName("sigma_a");
+    sa->setTransform(xf);
+    ss->tree().setValue(openvdb::Coord(0, 0, 0), 3.f);
+    sa->tree().setValue(openvdb::Coord(0, 0, 0), openvdb::Vec3f(1.f, 2.f, 3.f));
+    write_grids(dir.file("s.vdb"), {ss, sa});
+    const CoefficientGrids g = read_medium_vdb(dir.file("s.vdb"), {});
+    CHECK(g.sigma_s[0] == Spectrum(3.f));
+    CHECK(g.sigma_a[0] == Spectrum(1.f, 2.f, 3.f));
+
+    auto rotated = ss->deepCopy();
+    auto rx = openvdb::math::Transform::createLinearTransform(0.5);
+    rx->postRotate(0.3, openvdb::math::Y_AXIS);
+    rotated->setTransform(rx);
+    auto sa2 = sa->deepCopy();
+    sa2->setTransform(rx);
+    write_grids(dir.file("r.vdb"), {rotated, sa2});
+    CHECK_THROWS_WITH(read_medium_vdb(dir.file("r.vdb"), {}), Catch::Contains("axis-aligned"));
+
+    auto other = openvdb::FloatGrid::create(0.f);
+    other->setName("temperature");
+    other->tree().setValue(openvdb::Coord(0, 0, 0), 1.f);
+    write_grids(dir.file("t.vdb"), {other});
+    CHECK_THROWS_WITH(read_medium_vdb(dir.file("t.vdb"), {}), Catch::Contains("t.vdb"));
+}

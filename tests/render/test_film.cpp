@@ -1,0 +1,73 @@
+// The film's statistics against their textbook definitions.
+
+#include "jade/render/film.h"
+#include "jade/core/random.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jade;
+
+TEST_CASE("the film keeps each pixel's mean, variance of the mean and coverage", "[film]") {
+    Film f(2, 1);
+    const float values[] = {1.f, 2.f, 4.f, 5.f};
+    for (float v : values) f.add_sample(0, 0, Spectrum(v, 2 * v, 0.f), v > 1.5f);
+    f.set_spp(4);
+    CHECK(f.mean(0, 0).x == Approx(3.0));
+    // Sample variance (n − 1): ((−2)² + (−1)² + 1² + 2²) / 3 = 10/3; of the mean: / 4.
+    CHECK(f.variance_of_mean(0, 0).x == Approx(10.0 / 12.0));
+    CHECK(f.variance_of_mean(0, 0).y == Approx(40.0 / 12.0));
+    CHECK(f.variance_of_mean(0, 0).z == 0.f);
+    CHECK(f.coverage(0, 0) == Approx(0.75));
+    CHECK(f.coverage(1, 0) == 0.f);
+}
+
+TEST_CASE("the estimated relative error predicts the actual error", "[film]") {
+    // Pixels of true value 5 with uniform noise of unit width: the estimate
+    // from the film's variance must match the RMS relative error against the
+    // truth. (A bright value keeps the noise of the denominator m² negligible.)
+    const int w = 64, h = 64, spp = 16;
+    Film f(w, h), dim(w, h);
+    SplitMix64 rng(3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int s = 0; s < spp; ++s) {
+                const float v = 5.f + float(rng.uniform() - 0.5);
+                f.add_sample(x, y, Spectrum(v), true);
+                dim.add_sample(x, y, Spectrum(v / 1000.f), true);
+            }
+    f.set_spp(spp);
+    dim.set_spp(spp);
+    // The regulariser is 0.01 m̄², m̄ = 5 the image's mean.
+    double actual = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double m = f.mean(x, y).x;
+            actual += (m - 5.0) * (m - 5.0) / (m * m + 0.01 * 25.0);
+        }
+    actual = std::sqrt(actual / (w * h));
+    // Var of one sample 1/12 -> of the mean 1/192; relative: sqrt(1/192 / 25.25) = 0.014362.
+    CHECK(f.estimated_relative_error() == Approx(0.014362).epsilon(0.02));
+    // The actual error of 4096 pixels is itself known to ~1.1% (one sigma).
+    CHECK(actual == Approx(f.estimated_relative_error()).epsilon(0.05));
+    // The same image 1000 times darker is no more exact.
+    CHECK(dim.estimated_relative_error() == Approx(f.estimated_relative_error()).epsilon(1e-3));
+}
+
+TEST_CASE("the error against a reference is the RMSE", "[film]") {
+    Film f(1, 2);
+    f.add_sample(0, 0, Spectrum(1.f), true);
+    f.add_sample(0, 1, Spectrum(0.f), false);
+    f.set_spp(1);
+    ImageF32 ref;
+    ref.width = 1;
+    ref.height = 2;
+    ref.channels = 3;
+    ref.pixels = {0.5f, 0.5f, 0.5f, 0.f, 0.f, 0.f};
+    const ReferenceError e = compare_with_reference(f, ref);
+    CHECK(e.rmse == Approx(std::sqrt(0.25 * 3 / 6)));
+    CHECK(e.rel_mse == Approx(0.25 / 0.26 * 3 / 6));
+    ref.width = 2;
+    CHECK_THROWS(compare_with_reference(f, ref));
+}

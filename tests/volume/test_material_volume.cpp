@@ -1,0 +1,84 @@
+// Coefficients (paper §5.1) and the volume build.
+
+#include "jade/volume/material_volume.h"
+
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+using namespace jade;
+
+TEST_CASE("coefficients follow §5.1 exactly for known v_c", "[material_volume]") {
+    OpticalParams p;  // the paper's values: d_s = 1, d_a = 0.1, k_s = 0
+    p.da = 0.1;
+    // level 128 -> v_c = 0.5
+    CHECK(paper_sigma_s(128, 0, p) == 0.5);
+    CHECK(paper_sigma_a(128, p) == Approx(0.05).epsilon(1e-15));
+    // level 0 -> v_c = 0; level 255 -> v_c = 255/256
+    CHECK(paper_sigma_s(0, 1, p) == 0.0);
+    CHECK(paper_sigma_a(0, p) == Approx(0.1).epsilon(1e-15));
+    CHECK(paper_sigma_s(255, 2, p) == 255.0 / 256.0);
+    CHECK(paper_sigma_a(255, p) == Approx(0.1 / 256.0).epsilon(1e-12));
+
+    p.ds = 2.0;
+    p.da = 0.3;
+    p.ks = {0.25, -0.1, 0.0};
+    CHECK(paper_sigma_s(64, 0, p) == Approx(0.25 * 2.0 + 0.25));
+    CHECK(paper_sigma_s(64, 1, p) == Approx(0.25 * 2.0 - 0.1));
+    CHECK(paper_sigma_a(64, p) == Approx(0.75 * 2.0 * 0.3));
+}
+
+TEST_CASE("sigma_s is clamped at zero, sigma_a is not touched by k_s", "[material_volume]") {
+    OpticalParams p;
+    p.da = 0.1;
+    p.ks = {-0.3, -0.3, -0.3};
+    CHECK(paper_sigma_s(0, 0, p) == 0.0);
+    CHECK(paper_sigma_s(64, 0, p) == 0.0);   // 0.25 - 0.3 < 0
+    CHECK(paper_sigma_s(128, 0, p) == Approx(0.2));
+    CHECK(paper_sigma_a(64, p) == Approx(0.075));
+}
+
+TEST_CASE("world coefficients are paper coefficients times density_scale / cube side",
+          "[material_volume]") {
+    OpticalParams p;
+    p.density_scale = 30.0;
+    const CoefficientTable t(p, 2.0);
+    for (int level : {0, 77, 255}) {
+        CHECK(t.sigma_s[1][level] == Approx(paper_sigma_s(level, 1, p) * 15.0).epsilon(1e-6));
+        CHECK(t.sigma_a[2][level] == Approx(paper_sigma_a(level, p) * 15.0).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("bad optical parameters are rejected", "[material_volume]") {
+    OpticalParams p;
+    p.ds = 0;
+    CHECK_THROWS(p.validate());
+    p = OpticalParams{};
+    p.da = -0.1;
+    CHECK_THROWS(p.validate());
+    p = OpticalParams{};
+    p.density_scale = 0;
+    CHECK_THROWS(p.validate());
+}
+
+TEST_CASE("the volume build is the same with one and with two threads", "[material_volume]") {
+    Photo photo;
+    photo.width = 16;
+    photo.height = 16;
+    for (int i = 0; i < 256; ++i) {
+        photo.levels.push_back({std::uint8_t(i), std::uint8_t(255 - i), std::uint8_t(i / 2)});
+        photo.foreground.push_back(1);
+    }
+    NoiseParams n;
+    n.resolution = 40;
+    std::vector<Rgb8> one, two;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = build_material_volume(photo, n, MatchMode::Joint, OpticalParams{}).levels;
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        two = build_material_volume(photo, n, MatchMode::Joint, OpticalParams{}).levels;
+    }
+    CHECK(one == two);
+    CHECK(one.size() == 40u * 40u * 40u);
+}
