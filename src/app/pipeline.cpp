@@ -130,14 +130,13 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     // same tentative collisions and A(k_s) changes smoothly with k_s.
     clock = Stopwatch();
     Scene fit_scene = prep->scene;
-    fit_scene.transparent = true;
-    fit_scene.background = nullptr;
     const int final_width = prep->camera.width;
     const PinholeCamera fit_camera(at_resolution(prep->camera, o.fit_width > 0 ? o.fit_width : std::max(32, final_width / 4)));
     RenderSettings fit_settings = o.render.settings;
     fit_settings.time_limit = 0;
     fit_settings.target_error = 0;
     fit_settings.reference = nullptr;
+    fit_settings.backdrop = Backdrop{nullptr, true};
     int fit_spp = o.fit_spp;
     double fit_error_measured = 0.0;  // the first fitting render's estimated relative error
     const std::array<double, 3> ks_start = o.ks_start.value_or(volume.optics.ks);
@@ -265,7 +264,9 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
         if (o.progress)
             bar = std::make_unique<Progress>("final render", std::size_t(prep->camera.width) *
                                                                  prep->camera.height * o.render.settings.spp);
-        res.final_render = render(final_scene, PinholeCamera(prep->camera), o.render.settings, bar.get());
+        RenderSettings final_settings = o.render.settings;
+        final_settings.backdrop = prep->backdrop;
+        res.final_render = render(final_scene, PinholeCamera(prep->camera), final_settings, bar.get());
     }
     res.seconds_render = clock.seconds();
 
@@ -277,7 +278,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     auto out = [&](const char* name) { return (fs::path(res.out_dir) / name).string(); };
     write_material_vdb(out("volume.vdb"), volume);
     res.written.push_back(out("volume.vdb"));
-    write_film(res.final_render.film, out("render.exr"), out("render.png"), final_scene.transparent, exposure);
+    write_film(res.final_render.film, out("render.exr"), out("render.png"), prep->backdrop.transparent, exposure);
     res.written.push_back(out("render.exr"));
     res.written.push_back(out("render.png"));
     write_text(out("fit.csv"), fit_csv(res.fit));

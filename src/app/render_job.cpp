@@ -73,9 +73,9 @@ std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
     }
     if (!job.background.empty()) {
         prep->background.emplace(read_image_f32(job.background));
-        scene.background = &*prep->background;
+        prep->backdrop.image = &*prep->background;
     }
-    scene.transparent = job.transparent;
+    prep->backdrop.transparent = job.transparent;
     scene.fit_ray_epsilon();
 
     // Camera.
@@ -147,6 +147,7 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
 
     std::optional<ImageF32> reference;
     RenderSettings settings = job.settings;
+    settings.backdrop = prep->backdrop;
     if (!job.reference.empty()) {
         reference = read_image_f32(job.reference);
         if (reference->width != job.width || reference->height != job.height)

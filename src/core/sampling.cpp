@@ -29,4 +29,18 @@ glm::vec3 uniform_cone(const glm::vec3& axis, float cos_max, float u1, float u2)
 
 float uniform_cone_pdf(float cos_max) { return 1.f / (2.f * kPi * (1.f - cos_max)); }
 
+float UniformCone::pdf(const glm::vec3& w) const {
+    if (is_delta() || glm::dot(w, axis) < cos_max) return 0.f;
+    return uniform_cone_pdf(cos_max);
+}
+
+glm::vec3 UniformCone::sample(float u1, float u2, float& pdf) const {
+    if (is_delta()) {
+        pdf = 1.f;
+        return axis;
+    }
+    pdf = uniform_cone_pdf(cos_max);
+    return uniform_cone(axis, cos_max, u1, u2);
+}
+
 }  // namespace jade

@@ -62,15 +62,20 @@ BoundaryTransmission boundary_transmission(const BoundaryParams& p, const glm::v
     return t;
 }
 
+glm::vec3 interface_normal(const SurfaceHit& hit, const glm::vec3& d, bool entering) {
+    return (glm::dot(d, hit.shading_normal) < 0.f) == entering ? hit.shading_normal
+                                                               : hit.geometric_normal;
+}
+
 BoundarySample sample_boundary(const BoundaryParams& p, const glm::vec3& d, const glm::vec3& normal,
                                bool entering, float u) {
     const BoundaryTransmission t = boundary_transmission(p, d, normal, entering);
     const float p_reflect = 1.f - t.weight;  // 1 under total internal reflection
     if (u < p_reflect) {
         const glm::vec3 n = glm::dot(d, normal) < 0.f ? normal : -normal;
-        return {reflect(d, n), true, p_reflect};
+        return {reflect(d, n), true};
     }
-    return {t.direction, false, t.weight};
+    return {t.direction, false};
 }
 
 }  // namespace jade

@@ -15,70 +15,106 @@ namespace {
 constexpr double kRelativeEpsilon = 0.01;
 }
 
+namespace {
+// Fixed-point unit of the film's sums: 2^-64. A sample's value is clamped to
+// ±2^62 (radiance beyond 4.6e18 is no image) so that 2^63 such sums still fit.
+constexpr double kUnit = 18446744073709551616.0;  // 2^64
+constexpr double kLargest = 4611686018427387904.0;  // 2^62
+
+__int128 to_fixed(double v) {
+    return __int128(std::nearbyint(std::clamp(v, -kLargest, kLargest) * kUnit));
+}
+}  // namespace
+
 Film::Film(int width, int height)
-    : width_(width), height_(height), sum_(std::size_t(width) * height * 3, 0.0),
-      sum_sq_(std::size_t(width) * height * 3, 0.0), hits_(std::size_t(width) * height, 0) {}
+    : width_(width), height_(height), sum_(std::size_t(width) * height * 3, 0),
+      sum_sq_(std::size_t(width) * height * 3, 0), count_(std::size_t(width) * height, 0),
+      hits_(std::size_t(width) * height, 0) {}
+
+int Film::spp() const {
+    return count_.empty() ? 0 : int(*std::max_element(count_.begin(), count_.end()));
+}
 
 void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object) {
-    const std::size_t i = std::size_t(y) * width_ + x;
+    const std::size_t i = index(x, y);
     for (int c = 0; c < 3; ++c) {
         const double v = radiance[c];
-        sum_[3 * i + c] += v;
-        sum_sq_[3 * i + c] += v * v;
+        sum_[3 * i + c] += to_fixed(v);
+        sum_sq_[3 * i + c] += to_fixed(v * v);  // exact in double: v is a float
     }
+    ++count_[i];
     hits_[i] += hit_object ? 1u : 0u;
 }
 
+void Film::merge(const Film& o) {
+    if (o.width_ != width_ || o.height_ != height_)
+        throw Error("internal: films of different sizes cannot be merged");
+    for (std::size_t k = 0; k < sum_.size(); ++k) {
+        sum_[k] += o.sum_[k];
+        sum_sq_[k] += o.sum_sq_[k];
+    }
+    for (std::size_t i = 0; i < count_.size(); ++i) {
+        count_[i] += o.count_[i];
+        hits_[i] += o.hits_[i];
+    }
+}
+
+double Film::sum(std::size_t i, int c) const { return double(sum_[3 * i + c]) / kUnit; }
+double Film::sum_sq(std::size_t i, int c) const { return double(sum_sq_[3 * i + c]) / kUnit; }
+
 Spectrum Film::mean(int x, int y) const {
-    if (spp_ == 0) return Spectrum(0.f);
-    const std::size_t i = std::size_t(y) * width_ + x;
-    return Spectrum(float(sum_[3 * i] / spp_), float(sum_[3 * i + 1] / spp_),
-                    float(sum_[3 * i + 2] / spp_));
+    const std::size_t i = index(x, y);
+    const double n = count_[i];
+    if (n == 0) return Spectrum(0.f);
+    return Spectrum(float(sum(i, 0) / n), float(sum(i, 1) / n), float(sum(i, 2) / n));
 }
 
 Spectrum Film::variance_of_mean(int x, int y) const {
-    if (spp_ < 2) return Spectrum(std::numeric_limits<float>::quiet_NaN());
-    const std::size_t i = std::size_t(y) * width_ + x;
+    const std::size_t i = index(x, y);
+    const double n = count_[i];
+    if (n < 2) return Spectrum(std::numeric_limits<float>::quiet_NaN());
     Spectrum v;
-    const double n = spp_;
     for (int c = 0; c < 3; ++c) {
-        const double m = sum_[3 * i + c] / n;
-        const double var = std::max(0.0, (sum_sq_[3 * i + c] - n * m * m) / (n - 1.0));
+        const double m = sum(i, c) / n;
+        const double var = std::max(0.0, (sum_sq(i, c) - n * m * m) / (n - 1.0));
         v[c] = float(var / n);
     }
     return v;
 }
 
 float Film::coverage(int x, int y) const {
-    if (spp_ == 0) return 0.f;
-    return float(hits_[std::size_t(y) * width_ + x]) / float(spp_);
+    const std::size_t i = index(x, y);
+    if (count_[i] == 0) return 0.f;
+    return float(hits_[i]) / float(count_[i]);
 }
 
 double Film::estimated_relative_error() const {
-    if (spp_ < 2) return std::numeric_limits<double>::quiet_NaN();
-    const double n = spp_;
     // The object's mean value sets the scale of the regulariser, so that the
     // measure does not depend on the image's exposure.
     double level = 0.0;
     std::size_t count = 0;
-    for (std::size_t i = 0; i < hits_.size(); ++i) {
-        if (hits_[i] == 0) continue;
-        for (int c = 0; c < 3; ++c) level += sum_[3 * i + c] / n;
+    auto object = [&](std::size_t i) {
+        return count_[i] >= 2 && is_object_pixel(float(hits_[i]) / float(count_[i]));
+    };
+    for (std::size_t i = 0; i < count_.size(); ++i) {
+        if (!object(i)) continue;
+        for (int c = 0; c < 3; ++c) level += sum(i, c) / count_[i];
         count += 3;
     }
     if (count == 0) return std::numeric_limits<double>::quiet_NaN();
     level /= double(count);
     const double epsilon = kRelativeEpsilon * std::max(level * level, 1e-30);
-    double sum = 0.0;
-    for (std::size_t i = 0; i < hits_.size(); ++i) {
-        if (hits_[i] == 0) continue;
+    double total = 0.0;
+    for (std::size_t i = 0; i < count_.size(); ++i) {
+        if (!object(i)) continue;
+        const double n = count_[i];
         for (int c = 0; c < 3; ++c) {
-            const double m = sum_[3 * i + c] / n;
-            const double var = std::max(0.0, (sum_sq_[3 * i + c] - n * m * m) / (n - 1.0)) / n;
-            sum += var / (m * m + epsilon);
+            const double m = sum(i, c) / n;
+            const double var = std::max(0.0, (sum_sq(i, c) - n * m * m) / (n - 1.0)) / n;
+            total += var / (m * m + epsilon);
         }
     }
-    return std::sqrt(sum / double(count));
+    return std::sqrt(total / double(count));
 }
 
 std::vector<float> Film::rgba(bool alpha_is_coverage) const {

@@ -59,20 +59,6 @@ float DirectionalLight::radiance_toward(const glm::vec3& w) const {
     return glm::dot(w, direction_) >= cos_radius_ ? radiance_ : 0.f;
 }
 
-glm::vec3 DirectionalLight::sample(float u1, float u2, float& pdf) const {
-    if (is_delta()) {
-        pdf = 0.f;
-        return direction_;
-    }
-    pdf = uniform_cone_pdf(cos_radius_);
-    return uniform_cone(direction_, cos_radius_, u1, u2);
-}
-
-float DirectionalLight::pdf(const glm::vec3& w) const {
-    if (is_delta() || glm::dot(w, direction_) < cos_radius_) return 0.f;
-    return uniform_cone_pdf(cos_radius_);
-}
-
 Environment::Environment(const Spectrum& constant) : constant_(constant) {
     if (!is_finite(constant) || constant.x < 0.f || constant.y < 0.f || constant.z < 0.f)
         throw Error("--env must be finite and non-negative");

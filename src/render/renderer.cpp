@@ -25,68 +25,108 @@ void RenderSettings::validate() const {
     integrator.validate();
 }
 
+namespace {
+
+// Samples [samples.first, samples.last) of every pixel in `bounds`, added to
+// `film` in index order per pixel, tiles in parallel. A sample's random
+// numbers are keyed by (seed, pixel, sample index) and the film's sums are
+// exact, so the result does not depend on threads, tiles or how a render is
+// split into passes or pieces.
+void add_samples(const Scene& scene, const Integrator& integrator, const PinholeCamera& camera,
+                 const RenderSettings& settings, SampleRange samples, PixelBounds bounds,
+                 Film& film, PathCounters& counters, Progress* progress) {
+    const int width = camera.width(), height = camera.height();
+    const int tiles_x = (bounds.x1 - bounds.x0 + kTile - 1) / kTile;
+    const int tiles_y = (bounds.y1 - bounds.y0 + kTile - 1) / kTile;
+    tbb::enumerable_thread_specific<PathCounters> local_counters;
+    tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
+        PathCounters& local = local_counters.local();
+        const int x0 = bounds.x0 + (tile % tiles_x) * kTile, y0 = bounds.y0 + (tile / tiles_x) * kTile;
+        const int x1 = std::min(x0 + kTile, bounds.x1), y1 = std::min(y0 + kTile, bounds.y1);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const std::uint64_t pixel = std::uint64_t(y) * width + x;
+                for (int s = samples.first; s < samples.last; ++s) {
+                    SampleStream rng(settings.seed, pixel, std::uint64_t(s));
+                    const float fx = (float(x) + rng.uniform()) / float(width);
+                    const float fy = (float(y) + rng.uniform()) / float(height);
+                    const PathSample ps =
+                        integrator.trace(camera.origin(), camera.direction(fx, fy), rng, local);
+                    film.add_sample(x, y, ps.radiance + backdrop(scene, settings.backdrop, ps, fx, fy),
+                                    ps.hit_object);
+                }
+            }
+        if (progress) progress->advance(std::size_t(x1 - x0) * (y1 - y0) * (samples.last - samples.first));
+    });
+    for (const PathCounters& c : local_counters) counters += c;
+}
+
+// Samples in the next pass: passes double (2, 2, 4, 8, ...), so the error is
+// measured at evenly spaced points on a log scale and costs little; a time
+// budget or target error shortens the pass that would overshoot it.
+int next_pass_size(const RenderSettings& settings, int done, double seconds, double error) {
+    int n = std::min(std::max(2, done), settings.spp - done);
+    if (done == 0) return n;
+    const double per_spp = seconds / done;
+    if (settings.time_limit > 0.0) {
+        const double left = settings.time_limit - seconds;
+        n = std::max(1, std::min(n, int(left / per_spp)));
+    }
+    if (settings.target_error > 0.0 && std::isfinite(error)) {
+        // Error falls as 1/sqrt(spp).
+        const double need = done * (error / settings.target_error) * (error / settings.target_error);
+        n = std::max(1, std::min(n, int(std::ceil(need * 1.05)) - done));
+    }
+    return n;
+}
+
+}  // namespace
+
+Spectrum backdrop(const Scene& scene, const Backdrop& backdrop, const PathSample& ps, float fx,
+                  float fy) {
+    if (backdrop.transparent || ps.backdrop_weight == Spectrum(0.f)) return Spectrum(0.f);
+    return ps.backdrop_weight * (backdrop.image ? backdrop.image->at(fx, fy)
+                                                : scene.environment.radiance_toward(ps.backdrop_direction));
+}
+
+Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                 SampleRange samples, PixelBounds bounds, PathCounters* counters) {
+    settings.validate();
+    if (samples.first < 0 || samples.last < samples.first)
+        throw Error("the sample range must be first:last with 0 <= first <= last");
+    if (bounds.x0 < 0 || bounds.y0 < 0 || bounds.x1 > camera.width() ||
+        bounds.y1 > camera.height() || bounds.x0 > bounds.x1 || bounds.y0 > bounds.y1)
+        throw Error("the pixel bounds lie outside the image");
+    const Integrator integrator(scene, settings.integrator);
+    Film film(camera.width(), camera.height());
+    PathCounters local;
+    add_samples(scene, integrator, camera, settings, samples, bounds, film, local, nullptr);
+    if (counters) *counters += local;
+    return film;
+}
+
 RenderResult render(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                     Progress* progress, const std::function<void(const PassRecord&)>& on_pass) {
     settings.validate();
-    if (!scene.boundary) throw Error("internal: a scene needs a boundary mesh");
-    const int width = camera.width(), height = camera.height();
-    RenderResult result{Film(width, height), {}, {}, 0.0, "spp"};
-    Film& film = result.film;
-    const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+    const Integrator integrator(scene, settings.integrator);
+    RenderResult result{Film(camera.width(), camera.height()), {}, {}, 0.0, "spp"};
+    const PixelBounds whole{0, 0, camera.width(), camera.height()};
     const Stopwatch clock;
-
     int done = 0;
     for (int pass = 0; done < settings.spp; ++pass) {
-        // Pass sizes double (2, 2, 4, 8, ...), so the error is measured at
-        // evenly spaced points on a log scale and costs little; a time budget
-        // or target error shortens the pass that would overshoot it.
-        int n = std::max(2, done);
-        n = std::min(n, settings.spp - done);
-        if (done > 0) {
-            const double per_spp = clock.seconds() / done;
-            if (settings.time_limit > 0.0) {
-                const double left = settings.time_limit - clock.seconds();
-                n = std::max(1, std::min(n, int(left / per_spp)));
-            }
-            const double err = result.passes.back().estimated_error;
-            if (settings.target_error > 0.0 && std::isfinite(err)) {
-                // Error falls as 1/sqrt(spp).
-                const double need = done * (err / settings.target_error) * (err / settings.target_error);
-                n = std::max(1, std::min(n, int(std::ceil(need * 1.05)) - done));
-            }
-        }
-        const int first = done, last = done + n;
-
-        tbb::enumerable_thread_specific<PathCounters> counters;
-        tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
-            PathCounters& local = counters.local();
-            const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-            const int x1 = std::min(x0 + kTile, width), y1 = std::min(y0 + kTile, height);
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    const std::uint64_t pixel = std::uint64_t(y) * width + x;
-                    for (int s = first; s < last; ++s) {
-                        SampleStream rng(settings.seed, pixel, std::uint64_t(s));
-                        const float fx = (float(x) + rng.uniform()) / float(width);
-                        const float fy = (float(y) + rng.uniform()) / float(height);
-                        const PathSample ps = trace_path(scene, settings.integrator, camera.origin(),
-                                                         camera.direction(fx, fy), fx, fy, rng, local);
-                        film.add_sample(x, y, ps.radiance, ps.hit_object);
-                    }
-                }
-            if (progress) progress->advance(std::size_t(x1 - x0) * (y1 - y0) * n);
-        });
-        for (const PathCounters& c : counters) result.counters += c;
-        done = last;
-        film.set_spp(done);
+        const double error = done > 0 ? result.passes.back().estimated_error : 0.0;
+        const int n = next_pass_size(settings, done, clock.seconds(), error);
+        add_samples(scene, integrator, camera, settings, {done, done + n}, whole, result.film,
+                    result.counters, progress);
+        done += n;
 
         PassRecord rec;
         rec.pass = pass;
         rec.spp = done;
         rec.seconds = clock.seconds();
-        rec.estimated_error = film.estimated_relative_error();
+        rec.estimated_error = result.film.estimated_relative_error();
         if (settings.reference) {
-            const ReferenceError e = compare_with_reference(film, *settings.reference);
+            const ReferenceError e = compare_with_reference(result.film, *settings.reference);
             rec.rmse = e.rmse;
             rec.rel_mse = e.rel_mse;
         }

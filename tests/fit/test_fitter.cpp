@@ -107,7 +107,6 @@ TEST_CASE("display statistics: exposure, sRGB, 8 bits, object pixels only", "[fi
     f.add_sample(0, 0, Spectrum(0.25f), true);
     f.add_sample(1, 0, Spectrum(0.25f), true);
     f.add_sample(2, 0, Spectrum(1.f), false);
-    f.set_spp(1);
     const DisplayStatistics s = display_statistics(f, 2.f);
     CHECK(s.pixels == 2);
     const int level = int(std::lround(255.0 * srgb_encode(0.5)));
@@ -150,7 +149,6 @@ TEST_CASE("A is corrected for the bias noise puts into a concave display curve",
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
             for (int s = 0; s < spp; ++s) f.add_sample(x, y, Spectrum(float(0.6 * rng.uniform())), true);
-    f.set_spp(spp);
     const DisplayStatistics st = display_statistics(f, 1.f);
     const double truth = 255.0 * srgb_encode(0.3);
     INFO("A " << st.a[0] << " (histogram " << st.histogram.mean(0) << ") vs " << truth << " +- " << st.a_sigma[0]);
@@ -164,7 +162,6 @@ TEST_CASE("the fitting exposure lies where every channel can reach the photo, an
     auto film = [](Spectrum v) {
         Film f(1, 1);
         f.add_sample(0, 0, v, true);
-        f.set_spp(1);
         return f;
     };
     auto exposure_for = [](double linear, double level) {  // e with 255 srgb(e v) = level

@@ -13,7 +13,6 @@ TEST_CASE("the film keeps each pixel's mean, variance of the mean and coverage",
     Film f(2, 1);
     const float values[] = {1.f, 2.f, 4.f, 5.f};
     for (float v : values) f.add_sample(0, 0, Spectrum(v, 2 * v, 0.f), v > 1.5f);
-    f.set_spp(4);
     CHECK(f.mean(0, 0).x == Approx(3.0));
     // Sample variance (n − 1): ((−2)² + (−1)² + 1² + 2²) / 3 = 10/3; of the mean: / 4.
     CHECK(f.variance_of_mean(0, 0).x == Approx(10.0 / 12.0));
@@ -37,8 +36,6 @@ TEST_CASE("the estimated relative error predicts the actual error", "[film]") {
                 f.add_sample(x, y, Spectrum(v), true);
                 dim.add_sample(x, y, Spectrum(v / 1000.f), true);
             }
-    f.set_spp(spp);
-    dim.set_spp(spp);
     // The regulariser is 0.01 m̄², m̄ = 5 the image's mean.
     double actual = 0;
     for (int y = 0; y < h; ++y)
@@ -59,7 +56,6 @@ TEST_CASE("the error against a reference is the RMSE", "[film]") {
     Film f(1, 2);
     f.add_sample(0, 0, Spectrum(1.f), true);
     f.add_sample(0, 1, Spectrum(0.f), false);
-    f.set_spp(1);
     ImageF32 ref;
     ref.width = 1;
     ref.height = 2;

@@ -68,17 +68,20 @@ TEST_CASE("the directional light's disc gives its irradiance and is sampled unif
     const int n = 200000;
     for (int i = 0; i < n; ++i) {
         float pdf;
-        const glm::vec3 w = light.sample(rng.uniform(), rng.uniform(), pdf);
+        const float u1 = rng.uniform(), u2 = rng.uniform();
+        const glm::vec3 w = light.disc().sample(u1, u2, pdf);
         REQUIRE(glm::dot(w, dir) >= std::cos(alpha) - 1e-6);
         REQUIRE(pdf == Approx(1.0 / (2 * kPi * (1 - std::cos(alpha)))).epsilon(1e-4));
         sum_cos += glm::dot(w, dir);
     }
     // Uniform over the cap: E[cos θ] = (1 + cos α) / 2.
     CHECK(sum_cos / n == Approx((1 + std::cos(alpha)) / 2).epsilon(1e-4));
-    CHECK(light.pdf(dir) == Approx(1.0 / (2 * kPi * (1 - std::cos(alpha)))).epsilon(1e-4));
-    CHECK(light.pdf(-dir) == 0.f);
+    CHECK(light.disc().pdf(dir) == Approx(1.0 / (2 * kPi * (1 - std::cos(alpha)))).epsilon(1e-4));
+    CHECK(light.disc().pdf(-dir) == 0.f);
     const DirectionalLight delta(dir, 2.f, 0.f);
     CHECK(delta.is_delta());
+    CHECK(delta.disc().is_delta());
+    CHECK(delta.disc().pdf(dir) == 0.f);
     CHECK(delta.radiance_toward(dir) == 0.f);
     CHECK_THROWS(DirectionalLight(glm::vec3(0.f), 1.f, 0.f));
     CHECK_THROWS(DirectionalLight(dir, 1.f, 60.f));

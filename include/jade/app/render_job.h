@@ -81,6 +81,7 @@ struct PreparedScene {
     std::unique_ptr<MeshAccel> accel;
     Cube cube;                            // the mesh's bounding cube, where a volume goes
     std::optional<Background> background;
+    Backdrop backdrop;                    // what camera rays that miss see (the background's image)
     Scene scene;
     CameraParams camera;
     std::vector<std::string> warnings;    // e.g. an open mesh

@@ -15,4 +15,17 @@ void orthonormal_basis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2);
 glm::vec3 uniform_cone(const glm::vec3& axis, float cos_max, float u1, float u2);
 float uniform_cone_pdf(float cos_max);
 
+// A cone of directions, uniform in solid angle. A delta cone (cos_max = 1) is
+// one direction, whose density is a Dirac: an estimate that samples it is not
+// divided by a density, and no other strategy can produce that direction.
+struct UniformCone {
+    glm::vec3 axis{0.f, 0.f, 1.f};
+    float cos_max = 1.f;
+    bool is_delta() const { return !(cos_max < 1.f); }
+    // Density of direction w: 0 outside the cone, and for a delta cone.
+    float pdf(const glm::vec3& w) const;
+    // A direction of the cone and its density (1 for a delta cone).
+    glm::vec3 sample(float u1, float u2, float& pdf) const;
+};
+
 }  // namespace jade

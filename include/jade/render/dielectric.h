@@ -1,5 +1,6 @@
 #pragma once
-// The object's boundary: a smooth dielectric interface (paper §5.3, DESIGN §6).
+// The object's boundary: a smooth dielectric interface (paper §5.3;
+// docs/design.md, "Boundary").
 //
 //   split    the paper's model: reflect with weight `specular` (its specular
 //            coefficient 0.5), refract with weight 1 − specular; where
@@ -14,6 +15,8 @@
 // refraction: every light in a scene sits outside the object, so a path that
 // reaches a light crosses the boundary in and out equally often and the
 // factors cancel exactly.
+
+#include "jade/geometry/mesh_accel.h"
 
 #include <glm/vec3.hpp>
 
@@ -48,7 +51,6 @@ struct BoundaryParams {
 struct BoundarySample {
     glm::vec3 direction;  // new propagation direction
     bool reflected;       // true: the ray stays on its side
-    float probability;    // of the branch taken (for statistics and tests)
 };
 
 // The refracted branch alone, for estimators that follow it on purpose (next-
@@ -60,6 +62,11 @@ struct BoundaryTransmission {
 };
 BoundaryTransmission boundary_transmission(const BoundaryParams& params, const glm::vec3& d,
                                            const glm::vec3& n, bool entering);
+
+// The normal of the interface a ray with propagation direction d meets at
+// `hit`: the shading normal bends the interface smoothly; where it faces away
+// from the ray's side of the triangle, the triangle's own normal is used.
+glm::vec3 interface_normal(const SurfaceHit& hit, const glm::vec3& d, bool entering);
 
 // Samples the interface for propagation direction d arriving at a surface
 // with unit normal n (any orientation); `entering` says whether d comes from

@@ -19,12 +19,16 @@ public:
     Film(int width, int height);
     int width() const { return width_; }
     int height() const { return height_; }
-    int spp() const { return spp_; }
+    // The most samples any pixel holds (a uniform render's samples per pixel).
+    int spp() const;
+    int samples(int x, int y) const { return int(count_[index(x, y)]); }
 
     // Adds one sample to pixel (x, y). A pixel is written by one thread at a time.
     void add_sample(int x, int y, const Spectrum& radiance, bool hit_object);
-    // Records that every pixel now holds `spp` samples (after a pass).
-    void set_spp(int spp) { spp_ = spp; }
+    // Adds another film's samples (same size), pixel by pixel. The sums are
+    // exact, so merging is associative: pieces of a render merged in any
+    // grouping give the bits of one render of all their samples.
+    void merge(const Film& other);
 
     Spectrum mean(int x, int y) const;
     // Variance of the pixel's mean (sample variance / n), per channel.
@@ -33,7 +37,7 @@ public:
     float coverage(int x, int y) const;
 
     // Estimated relative error of the image without a reference: the root of
-    // the mean over the object's pixels (coverage > 0) and channels of
+    // the mean over the object's pixels (core/display.h) and channels of
     // Var[mean] / (mean² + 0.01 m̄²), m̄ the mean of those pixels — the
     // relative MSE of Rousselle et al. 2011 for the image scaled to mean 1:
     // its 0.01 keeps near-black pixels from dominating, and scaling makes the
@@ -46,10 +50,16 @@ public:
     std::vector<float> rgba(bool alpha_is_coverage) const;
 
 private:
+    std::size_t index(int x, int y) const { return std::size_t(y) * width_ + x; }
+    double sum(std::size_t i, int c) const;
+    double sum_sq(std::size_t i, int c) const;
+
     int width_, height_;
-    int spp_ = 0;
-    std::vector<double> sum_, sum_sq_;    // 3 per pixel
-    std::vector<std::uint32_t> hits_;
+    // Σx and Σx² per pixel and channel as fixed-point integers (2^-64 units):
+    // integer sums do not depend on the order samples arrive in, which
+    // floating-point sums do. A float sample ≥ 2^-40 is held exactly.
+    std::vector<__int128> sum_, sum_sq_;  // 3 per pixel
+    std::vector<std::uint32_t> count_, hits_;
 };
 
 // Error of a film against a reference image of the same size (RGB or more).

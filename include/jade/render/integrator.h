@@ -1,9 +1,9 @@
 #pragma once
-// Unbiased volumetric path tracing (DESIGN §8) through the dielectric
-// boundary and the medium inside it.
+// Unbiased volumetric path tracing (docs/design.md, "Transport") through the
+// dielectric boundary and the medium inside it.
 //
 // Free flights are sampled by delta tracking (Woodcock et al. 1965) against
-// one grey majorant μ̄ = max over channels and space of σ_t. RGB media are
+// the medium's grey majorant segments (render/tracking.h). RGB media are
 // chromatic, so each path picks a hero channel uniformly and chooses its
 // collision events (absorb / scatter / null) with that channel's
 // probabilities; the path's weight for each channel is then combined across
@@ -12,18 +12,12 @@
 // Mitsuba 3's volpathmis). The estimate is unbiased in every channel and
 // bounded: no channel's weight exceeds 3.
 //
-// Lights: the environment is met by rays leaving the scene. The directional
-// light is met by rays leaving the scene within its disc (angular radius > 0),
-// unless the vertex before was a medium vertex with a free line of sight to
-// the light (boundary `none`), which counts it by next-event estimation
-// instead, its shadow-ray transmittance by ratio tracking (Cramer 1978;
-// Novák et al. 2014). Behind a smooth dielectric no straight shadow ray can
-// reach a light; there each scattering vertex instead sends one ray into a
-// cone aimed so that it refracts out toward the light's disc, ratio-tracked to
-// the surface and followed through it, and combines it with the paths that
-// refract out by phase sampling through multiple importance sampling (see
-// light_guide in integrator.cpp). A delta light (radius 0) cannot be reached
-// that way: behind a dielectric it lights nothing inside.
+// Lights: the environment is met by rays leaving the scene; the directional
+// light by rays leaving within its disc, and at every scattering vertex by
+// the scene's light estimator (render/light_estimator.h), weighed against
+// those hits by MIS with pbrt-v4's r_u / r_l bookkeeping. What a camera ray
+// that leaves without interacting sees (background, environment or nothing)
+// is the renderer's to compose: the path returns its weight.
 //
 // Paths end by absorption, Russian roulette (after `rr_depth` interactions,
 // survival = throughput when below 1) or when they would make interaction
@@ -31,9 +25,11 @@
 // counted. A cap biases the image, so capped paths are counted for reports.
 
 #include "jade/core/random.h"
+#include "jade/render/light_estimator.h"
 #include "jade/render/scene.h"
+#include "jade/render/tracking.h"
 
-#include <cstdint>
+#include <memory>
 
 namespace jade {
 
@@ -48,36 +44,38 @@ struct IntegratorSettings {
     void validate() const;
 };
 
-// Event counts of a set of paths (summed over threads; integers, so sums are
-// exact and deterministic).
-struct PathCounters {
-    std::uint64_t paths = 0;
-    std::uint64_t real_collisions = 0;  // absorption and scattering events
-    std::uint64_t null_collisions = 0;  // rejected tentative collisions
-    std::uint64_t surface_events = 0;   // reflections and refractions at the boundary
-    std::uint64_t shadow_rays = 0;
-    std::uint64_t capped_paths = 0;     // stopped by max_depth (a bias)
-    std::uint64_t vertices() const { return real_collisions + surface_events; }
-    PathCounters& operator+=(const PathCounters& o);
-};
-
 struct PathSample {
     Spectrum radiance{0.f};
-    bool hit_object = false;  // the camera ray met the object (coverage)
+    bool hit_object = false;    // the camera ray met the object (coverage)
+    // A camera ray that left the scene without interacting (it may have
+    // crossed an index-matched boundary): its weight and direction, for the
+    // renderer to look up the backdrop. Zero weight otherwise.
+    Spectrum backdrop_weight{0.f};
+    glm::vec3 backdrop_direction{0.f};
 };
 
-// One camera path: radiance arriving at the camera along propagation
-// direction `direction` (unit) from `origin`, which must lie outside the
-// object. (film_x, film_y) in [0,1]² is where it crosses the film, for the
-// background image.
-PathSample trace_path(const Scene& scene, const IntegratorSettings& settings,
-                      const glm::vec3& origin, const glm::vec3& direction, float film_x,
-                      float film_y, SampleStream& rng, PathCounters& counters);
+class Integrator {
+public:
+    // The scene must outlive the integrator.
+    Integrator(const Scene& scene, const IntegratorSettings& settings);
+    // One camera path: radiance arriving at the camera along propagation
+    // direction `direction` (unit) from `origin`, which lies outside the object.
+    PathSample trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
+                     PathCounters& counters) const;
 
-// Transmittance along a ray from `origin` toward `direction` out of the scene,
-// estimated by ratio tracking through every stretch of medium it crosses
-// (the boundary treated as index-matched). Unbiased per channel.
-Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::vec3& direction,
-                       SampleStream& rng, PathCounters& counters);
+private:
+    struct PathState;
+    enum class Flight { Reached, Scattered, Ended };
+    Flight track(PathState& s, float t_max, MediumProperties& at) const;
+    bool scatter(PathState& s, const MediumProperties& m) const;
+    void estimate_light(PathState& s, const glm::vec3& p) const;
+    bool cross_surface(PathState& s, const SurfaceHit& hit) const;
+    void escape(PathState& s) const;
+    bool survive(PathState& s) const;
+
+    const Scene& scene_;
+    IntegratorSettings settings_;
+    std::unique_ptr<LightEstimator> light_estimator_;
+};
 
 }  // namespace jade

@@ -8,6 +8,7 @@
 // (down): +y is up, the image centre looks along −z, +x a quarter to the right.
 
 #include "jade/io/image_io.h"
+#include "jade/core/sampling.h"
 #include "jade/core/spectrum.h"
 
 #include <glm/vec3.hpp>
@@ -34,13 +35,12 @@ public:
     // Radiance seen along propagation direction -w, i.e. looking toward w (0 for a delta light).
     float radiance_toward(const glm::vec3& w) const;
     // The disc's uniform radiance (0 for a delta light): the value for
-    // directions sample() returns, without re-testing them against the disc's
+    // directions disc().sample() returns, without re-testing them against the disc's
     // edge, where rounding could drop a sample.
     float disc_radiance() const { return radiance_; }
-    // A direction toward the light, uniform over its disc, with its solid-angle
-    // pdf (returned as 0 for a delta light, whose weight is then the irradiance).
-    glm::vec3 sample(float u1, float u2, float& pdf) const;
-    float pdf(const glm::vec3& w) const;
+    // The directions toward the light: its disc as a cone (a delta cone for a
+    // delta light).
+    UniformCone disc() const { return {direction_, cos_radius_}; }
 
 private:
     glm::vec3 direction_{0.f, 1.f, 0.f};

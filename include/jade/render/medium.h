@@ -2,8 +2,13 @@
 // The participating medium inside the object (paper §5.1–5.2): scattering and
 // absorption coefficients per RGB channel and per world unit at every point,
 // and a majorant that bounds the extinction everywhere, for delta tracking.
-// Variants live in jade/media/: homogeneous, and dense grids (the material
+// Variants live in render/media/: homogeneous, and dense grids (the material
 // volume's levels, or float grids from a foreign .vdb).
+//
+// Tracking (render/tracking.h) asks the medium for majorant segments along a
+// ray: stretches with one grey majorant each. Today's media hand out one
+// segment with their global majorant; a medium with a majorant grid hands
+// out one per cell it crosses, and no tracking loop changes.
 
 #include "jade/core/spectrum.h"
 
@@ -18,6 +23,12 @@ struct MediumProperties {
     Spectrum sigma_a{0.f};  // absorption coefficient
 };
 
+// A stretch [t_min, t_max) of a ray over which σ_t ≤ sigma_maj in every channel.
+struct MajorantSegment {
+    float t_min = 0.f, t_max = 0.f;
+    float sigma_maj = 0.f;
+};
+
 class Medium {
 public:
     virtual ~Medium() = default;
@@ -25,6 +36,11 @@ public:
     virtual MediumProperties at(const glm::vec3& p) const = 0;
     // Per-channel upper bound of σ_t = σ_s + σ_a over all points.
     virtual Spectrum majorant() const = 0;
+    // The segment of the ray o + t·d that starts at t_min and ends no later
+    // than t_max. The default: all of [t_min, t_max) under the global
+    // majorant's largest channel (one grey majorant for an RGB medium).
+    virtual MajorantSegment majorant_segment(const glm::vec3& o, const glm::vec3& d, float t_min,
+                                             float t_max) const;
     // Memory the medium holds for its coefficients (benchmarks report it).
     virtual std::size_t memory_bytes() const = 0;
 };

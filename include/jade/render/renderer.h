@@ -20,12 +20,19 @@ namespace jade {
 
 class Progress;
 
+// What a camera ray that leaves without meeting the object sees.
+struct Backdrop {
+    const Background* image = nullptr;  // stretched over the film; else the environment
+    bool transparent = false;           // nothing (the film's alpha is the coverage)
+};
+
 struct RenderSettings {
     int spp = 256;              // stop after this many samples per pixel
     double time_limit = 0.0;    // seconds; 0 = none
     double target_error = 0.0;  // estimated relative error to stop at; 0 = none
     std::uint64_t seed = 1;
     IntegratorSettings integrator;
+    Backdrop backdrop;
     const ImageF32* reference = nullptr;  // for RMSE after each pass
     void validate() const;
 };
@@ -48,6 +55,30 @@ struct RenderResult {
     std::string stopped_by;  // "spp", "time" or "target error"
 };
 
+// Samples [first, last) of each pixel, and a rectangle of pixels [x0, x1) × [y0, y1).
+struct SampleRange {
+    int first = 0, last = 0;
+};
+struct PixelBounds {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+// One piece of a render: the samples `samples` of the pixels in `bounds`, in
+// a film of the whole image's size (other pixels hold no sample). Pieces
+// merged with Film::merge are bit-identical to one render of all their
+// samples (the random numbers are keyed by seed, pixel and sample index, and
+// the film's sums are exact).
+Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                 SampleRange samples, PixelBounds bounds, PathCounters* counters = nullptr);
+
+// What a camera sample sees behind the object: the backdrop's radiance times
+// the weight the path carried out of the scene (zero unless it left without
+// interacting).
+Spectrum backdrop(const Scene& scene, const Backdrop& backdrop, const PathSample& ps, float fx,
+                  float fy);
+
+// Progressive rendering: passes of samples over the whole image until the
+// sample count, the time budget or the target error is reached.
 RenderResult render(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                     Progress* progress = nullptr,
                     const std::function<void(const PassRecord&)>& on_pass = nullptr);

@@ -10,6 +10,8 @@
 #include "jade/geometry/mesh_accel.h"
 #include "jade/render/phase_function.h"
 
+#include <glm/geometric.hpp>
+
 namespace jade {
 
 struct Scene {
@@ -19,14 +21,17 @@ struct Scene {
     PhaseFunction phase;
     DirectionalLight light;                // off by default
     Environment environment;               // black by default
-    const Background* background = nullptr;  // seen by camera rays that miss, instead of the environment
-    bool transparent = false;              // camera rays that miss see nothing (film alpha = coverage)
     // Offset of a ray leaving the surface, along the geometric normal, so it
     // cannot hit the triangle it leaves (1e-5 of the scene's size).
     float ray_epsilon = 1e-5f;
 
     // Sets ray_epsilon from the boundary's size; call after setting `boundary`.
     void fit_ray_epsilon();
+    // Where a ray leaving surface point p (geometric normal ng) toward
+    // `direction` starts: pushed off the surface to the side it goes.
+    glm::vec3 offset(const glm::vec3& p, const glm::vec3& ng, const glm::vec3& direction) const {
+        return p + (glm::dot(direction, ng) > 0.f ? ray_epsilon : -ray_epsilon) * ng;
+    }
 };
 
 }  // namespace jade

@@ -1,0 +1,78 @@
+#pragma once
+// One tracking loop for every ray through the medium (in the spirit of
+// pbrt-v4's SampleT_maj): tentative collisions are drawn against the
+// medium's majorant segments, and a callback decides at each what happens —
+// delta tracking (a real collision ends the flight) for paths, ratio
+// tracking (every collision is null and weighs the estimate) for shadow
+// rays. Free flights are exponential, so a flight that crosses a segment's
+// end is restarted at the next segment with its own majorant without bias.
+
+#include "jade/core/random.h"
+#include "jade/render/medium.h"
+#include "jade/render/scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstdint>
+
+namespace jade {
+
+// Event counts of a set of paths (summed over threads; integers, so sums are
+// exact and deterministic).
+struct PathCounters {
+    std::uint64_t paths = 0;
+    std::uint64_t real_collisions = 0;  // absorption and scattering events
+    std::uint64_t null_collisions = 0;  // rejected tentative collisions
+    std::uint64_t surface_events = 0;   // reflections and refractions at the boundary
+    std::uint64_t shadow_rays = 0;
+    std::uint64_t capped_paths = 0;     // stopped by max_depth (a bias)
+    std::uint64_t vertices() const { return real_collisions + surface_events; }
+    PathCounters& operator+=(const PathCounters& o);
+};
+
+// Crossings of an index-matched boundary are not interactions; a ray passing
+// through more than this many surfaces is caught in a degenerate mesh.
+constexpr int kMaxCrossings = 4096;
+
+// Free-flight distance to the next tentative collision against majorant mu.
+inline float sample_free_flight(float mu, SampleStream& rng) {
+    return -std::log1p(-rng.uniform()) / mu;
+}
+
+// Tentative collisions along o + t·d for 0 ≤ t < t_max. At each one,
+// `collide(p, properties, sigma_maj)` returns true to go on, false to stop.
+// Returns true when the ray reached t_max (no callback stopped it).
+// Segments with a zero majorant are crossed without drawing a number.
+template <typename Collide>
+bool sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
+                  SampleStream& rng, Collide&& collide) {
+    for (float t_min = 0.f; t_min < t_max;) {
+        const MajorantSegment seg = medium.majorant_segment(o, d, t_min, t_max);
+        if (seg.sigma_maj > 0.f) {
+            for (float t = seg.t_min + sample_free_flight(seg.sigma_maj, rng); t < seg.t_max;
+                 t += sample_free_flight(seg.sigma_maj, rng)) {
+                const glm::vec3 p = o + t * d;
+                if (!collide(p, medium.at(p), seg.sigma_maj)) return false;
+            }
+        }
+        if (!(seg.t_max > t_min)) break;  // an empty segment: nothing further to track
+        t_min = seg.t_max;
+    }
+    return true;
+}
+
+// Ratio tracking (Cramer 1978; Novák et al. 2014) along o + t·d for
+// 0 ≤ t < t_max: every tentative collision multiplies the estimate by the
+// probability of a null collision there, σ_n / σ̄, per channel; Russian
+// roulette ends a faint estimate without bias.
+Spectrum ratio_tracking(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
+                        SampleStream& rng, PathCounters& counters);
+
+// Transmittance from a medium vertex `origin` toward `direction` out of the
+// scene, through every stretch of medium the ray crosses (the boundary
+// treated as index-matched). Unbiased per channel.
+Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::vec3& direction,
+                       SampleStream& rng, PathCounters& counters);
+
+}  // namespace jade

@@ -1,0 +1,49 @@
+#include "jade/render/light_estimators/refracted_cone.h"
+
+#include "jade/render/dielectric.h"
+
+#include <glm/geometric.hpp>
+
+#include <limits>
+
+namespace jade {
+
+namespace {
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+}
+
+std::optional<UniformCone> RefractedConeEstimator::cone(const glm::vec3& p) const {
+    const BoundaryParams& interface = scene_.interface;
+    if (interface.mode == BoundaryMode::Split && !(interface.specular < 1.f))
+        return std::nullopt;  // a mirror: nothing leaves
+    const glm::vec3& l = scene_.light.direction();
+    const auto probe = scene_.boundary->intersect(p, l, 0.f, kInfinity);
+    if (!probe || glm::dot(l, probe->geometric_normal) <= 0.f) return std::nullopt;
+    // Light arriving along −l refracts into the object (always possible from
+    // the outside); the guide is its reverse.
+    const BoundaryTransmission in =
+        boundary_transmission(interface, -l, interface_normal(*probe, -l, true), true);
+    if (in.direction == glm::vec3(0.f)) return std::nullopt;
+    const UniformCone cone{-in.direction, scene_.light.disc().cos_max};
+    if (cone.is_delta()) return std::nullopt;
+    return cone;
+}
+
+LightArrival RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3& w,
+                                              SampleStream& rng, PathCounters& counters) const {
+    ++counters.shadow_rays;
+    const auto hit = scene_.boundary->intersect(p, w, 0.f, kInfinity);
+    if (!hit || glm::dot(w, hit->geometric_normal) <= 0.f) return {};
+    const BoundaryTransmission out =
+        boundary_transmission(scene_.interface, w, interface_normal(*hit, w, false), false);
+    if (!(out.weight > 0.f)) return {};
+    const float le = scene_.light.radiance_toward(out.direction);
+    if (!(le > 0.f)) return {};
+    const glm::vec3 y = p + hit->t * w;
+    if (scene_.boundary->intersect(scene_.offset(y, hit->geometric_normal, out.direction),
+                                   out.direction, 0.f, kInfinity))
+        return {};  // the object itself is in the way
+    return {out.weight * le, ratio_tracking(*scene_.medium, p, w, hit->t, rng, counters)};
+}
+
+}  // namespace jade

@@ -1,0 +1,60 @@
+#include "jade/render/tracking.h"
+
+#include <glm/common.hpp>
+
+#include <limits>
+
+namespace jade {
+
+PathCounters& PathCounters::operator+=(const PathCounters& o) {
+    paths += o.paths;
+    real_collisions += o.real_collisions;
+    null_collisions += o.null_collisions;
+    surface_events += o.surface_events;
+    shadow_rays += o.shadow_rays;
+    capped_paths += o.capped_paths;
+    return *this;
+}
+
+Spectrum ratio_tracking(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
+                        SampleStream& rng, PathCounters& counters) {
+    Spectrum tr(1.f);
+    sample_t_maj(medium, o, d, t_max, rng, [&](const glm::vec3&, const MediumProperties& m, float mu) {
+        ++counters.null_collisions;
+        tr *= glm::max(Spectrum(0.f), Spectrum(1.f) - (m.sigma_s + m.sigma_a) / mu);
+        // Russian roulette on a faint shadow ray keeps it unbiased and short.
+        const float q = max_component(tr);
+        if (q < 0.1f) {
+            if (q <= 0.f || rng.uniform() >= q * 10.f) {
+                tr = Spectrum(0.f);
+                return false;
+            }
+            tr /= q * 10.f;
+        }
+        return true;
+    });
+    return tr;
+}
+
+Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::vec3& direction,
+                       SampleStream& rng, PathCounters& counters) {
+    constexpr float kInfinity = std::numeric_limits<float>::infinity();
+    ++counters.shadow_rays;
+    Spectrum tr(1.f);
+    glm::vec3 o = origin;
+    bool inside = true;  // shadow rays start at medium vertices
+    for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
+        const auto hit = scene.boundary->intersect(o, direction, 0.f, kInfinity);
+        if (inside && scene.medium) {
+            tr *= ratio_tracking(*scene.medium, o, direction, hit ? hit->t : kInfinity, rng, counters);
+            if (max_component(tr) <= 0.f) return tr;
+        }
+        if (!hit) return tr;
+        const glm::vec3 p = o + hit->t * direction;
+        inside = glm::dot(direction, hit->geometric_normal) < 0.f;
+        o = scene.offset(p, hit->geometric_normal, direction);
+    }
+    return Spectrum(0.f);
+}
+
+}  // namespace jade
