@@ -10,6 +10,7 @@
 #include "jade/volume/photo.h"
 #include "jade/app/pipeline.h"
 #include "jade/core/progress.h"
+#include "jade/app/job.h"
 #include "jade/app/render_job.h"
 #include "jade/core/timing.h"
 #include "jade/io/vdb_io.h"
@@ -105,16 +106,43 @@ struct Vec3Flag {
 };
 
 struct RenderFlags {
+    std::string job_file;
     jade::RenderJob job;
     std::string boundary = "split";
     Vec3Flag sigma_s, sigma_a, ks, vdb_albedo, origin, target, up, light_dir;
 };
 
+// `render --job FILE`: the job is read before the flags are parsed, so that
+// the flags given land on top of it (CLI11 writes only the options given).
+// Returns false (after printing the error) when the file cannot be used.
+bool preload_job(int argc, char** argv, RenderFlags& f) {
+    bool in_render = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg == "render") in_render = true;
+        if (!in_render) continue;
+        std::string path;
+        if (arg == "--job" && i + 1 < argc) path = argv[i + 1];
+        if (arg.rfind("--job=", 0) == 0) path = arg.substr(6);
+        if (path.empty()) continue;
+        try {
+            f.job = jade::load_job(path);
+        } catch (const jade::Error& e) {
+            std::fprintf(stderr, "jaderender: error: %s\n", e.what());
+            return false;
+        }
+        f.boundary = jade::to_string(f.job.interface.mode);
+    }
+    return true;
+}
+
 // The render command's own flags: its medium and mesh.
 void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     jade::RenderJob& j = f.job;
-    cmd.add_option("--mesh", j.mesh, "The object's surface (.obj, .gltf, .glb); closed, outward-facing")
-        ->required();
+    cmd.add_option("--job", f.job_file,
+                   "Render the job in this file (a job document, or a report.json whose final render "
+                   "it replays); flags given beside it override its keys");
+    cmd.add_option("--mesh", j.mesh, "The object's surface (.obj, .gltf, .glb); closed, outward-facing");
     cmd.add_option("--volume", j.volume,
                    "Medium: a jaderender .vdb (mapped onto the mesh's bounding cube) or a foreign "
                    ".vdb with world-space grids sigma_s + sigma_a, or density [+ color]");
@@ -130,7 +158,11 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     cmd.add_flag("--flat", j.flat_normals, "Shade the boundary with face normals");
     cmd.add_flag("--allow-open", j.allow_open, "Render a mesh with many open edges anyway");
     cmd.add_option("--reference", j.reference, "Reference image: RMSE after every pass");
-    cmd.add_option("--out", j.out, "Output .exr (linear RGBA float)")->required();
+    cmd.add_option("--out", j.out, "Output .exr (linear RGBA float)");
+    cmd.add_option("--exposure", j.exposure,
+                   "The PNG's exposure before sRGB (0 = the fitted exposure a jaderender .vdb stores, "
+                   "else 1)")
+        ->capture_default_str();
     cmd.add_option("--png", j.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
     cmd.add_option("--convergence", j.convergence,
                    "Error against time, CSV ('auto': convergence.csv beside --out; '' = none)")
@@ -266,22 +298,22 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
         ->capture_default_str();
     app.add_option("--ks", p.ks_start.text, "k_s to start the fit from (or to use with --fit none), r,g,b "
                                             "(default: 0, or the stored k_s of --volume)");
-    app.add_option("--fit-width", o.fit_width, "Width of the fitting renders (0 = a quarter of --width)")
+    app.add_option("--fit-width", o.fit.width, "Width of the fitting renders (0 = a quarter of --width)")
         ->capture_default_str();
-    app.add_option("--fit-spp", o.fit_spp, "Samples per pixel of the fitting renders (0 = doubled from "
+    app.add_option("--fit-spp", o.fit.spp, "Samples per pixel of the fitting renders (0 = doubled from "
                                            "256 until A's standard error is below --fit-noise and the "
                                            "estimated relative error below --fit-error)")
         ->capture_default_str();
-    app.add_option("--fit-noise", o.fit_noise, "Standard error of A (gray levels) the fitting renders must reach")
+    app.add_option("--fit-noise", o.fit.noise, "Standard error of A (gray levels) the fitting renders must reach")
         ->capture_default_str();
-    app.add_option("--fit-error", o.fit_error,
+    app.add_option("--fit-error", o.fit.error,
                    "Estimated relative error (per pixel) the fitting renders must reach")
         ->capture_default_str();
-    app.add_option("--fit-spp-max", o.fit_spp_max, "Most samples per pixel a fitting render doubles to")
+    app.add_option("--fit-spp-max", o.fit.spp_max, "Most samples per pixel a fitting render doubles to")
         ->capture_default_str();
-    app.add_option("--fit-max-renders", o.fit_max_renders, "Most fitting renders")->capture_default_str();
-    app.add_option("--ks-max", o.limits.k_max, "Largest k_s the fit tries")->capture_default_str();
-    app.add_option("--exposure", o.exposure, "Render-to-photo exposure factor before the sRGB encoding "
+    app.add_option("--fit-max-renders", o.fit.max_renders, "Most fitting renders")->capture_default_str();
+    app.add_option("--ks-max", o.fit.k_max, "Largest k_s the fit tries")->capture_default_str();
+    app.add_option("--exposure", o.fit.exposure, "Render-to-photo exposure factor before the sRGB encoding "
                                              "(0 = the middle of the range where every channel can reach the photo, from the "
                                              "renders at both k_s bounds)")
         ->capture_default_str();
@@ -300,21 +332,22 @@ int run_pipeline(PipelineFlags& p) {
     o.optics = p.volume.optics;
     if (p.ks_start.given()) {
         const glm::vec3 k = p.ks_start.value("--ks");
-        o.ks_start = std::array<double, 3>{k.x, k.y, k.z};
+        o.fit.ks_start = std::array<double, 3>{k.x, k.y, k.z};
     }
-    o.fit = jade::parse_fit_method(p.fit);
+    o.fit.method = jade::parse_fit_method(p.fit);
     o.out_dir = p.out_dir;
     o.render = p.scene.job;
     o.progress = true;
     const jade::PipelineResult r = jade::run_pipeline(o);
     for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());
+    const jade::FitOutcome& fit = r.fit;
     for (int c = 0; c < 3; ++c)
-        if (r.channel_status[c] != "converged" && r.channel_status[c] != "not fitted")
-            std::fprintf(stderr, "jaderender: warning: fit: %s\n", r.channel_status[c].c_str());
-    const jade::FitRecord* best = r.fit.empty() ? nullptr : &r.fit.back();
+        if (fit.state[c] != jade::ChannelState::Converged)
+            std::fprintf(stderr, "jaderender: warning: fit: %s\n", fit.reason[c].c_str());
+    const jade::FitRecord* best = fit.records.empty() ? nullptr : &fit.records.back();
     std::printf("fit (%s): %zu renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); %s\n",
-                p.fit.c_str(), r.fit.size(), best ? best->spp : 0, r.seconds_fit, r.exposure, r.ks[0], r.ks[1], r.ks[2],
-                r.converged ? "|dA| < 1 in every channel" : "NOT converged (see the warnings)");
+                p.fit.c_str(), fit.records.size(), fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
+                fit.ks[2], fit.converged ? "|dA| < 1 in every channel" : "NOT converged (see the warnings)");
     if (best)
         std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
                     "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",
@@ -363,6 +396,7 @@ int main(int argc, char** argv) {
                            "Also write the middle slice of the matched noise as an image");
 
     RenderFlags render_flags;
+    if (!preload_job(argc, argv, render_flags)) return 2;
     auto* render_cmd = app.add_subcommand(
         "render", "Render a medium (a saved volume, a foreign .vdb or a homogeneous one) inside a "
                   "mesh's dielectric boundary");

@@ -99,11 +99,15 @@ std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
                                const std::function<void(const PassRecord&)>& on_pass) {
     job.settings.validate();
-    if (job.out.empty()) throw Error("--out is required");
+    if (job.mesh.empty()) throw Error("--mesh is required (or a --job that names one)");
+    if (job.out.empty()) throw Error("--out is required (or a --job that names it)");
+    if (!(job.exposure >= 0.f) || !std::isfinite(job.exposure))
+        throw Error("--exposure must be a finite number >= 0 (0: the volume's fitted one, or 1)");
     if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
         throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
     require_output_folder(job.out);
     RenderJobResult result;
+    result.exposure = job.exposure > 0.f ? job.exposure : 1.f;
     const Stopwatch load_clock;
     const std::unique_ptr<PreparedScene> prep = prepare_scene(job);
     result.warnings = prep->warnings;
@@ -123,6 +127,7 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
                           volume.resolution, cube.side, volume.optics.ks[0], volume.optics.ks[1],
                           volume.optics.ks[2]);
             result.medium_description = text;
+            if (job.exposure == 0.f && volume.exposure > 0.0) result.exposure = float(volume.exposure);
             medium = std::make_unique<MaterialVolumeMedium>(volume, cube);
         } else {
             if (job.ks) fail_file(job.volume, "--ks applies to jaderender volumes only");
@@ -166,7 +171,7 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         job.convergence == "auto"
             ? (std::filesystem::path(job.out).parent_path() / "convergence.csv").string()
             : job.convergence;
-    write_film(result.render.film, job.out, png, job.transparent);
+    write_film(result.render.film, job.out, png, job.transparent, result.exposure);
     result.written.push_back(job.out);
     if (!png.empty()) result.written.push_back(png);
     if (!csv.empty()) {

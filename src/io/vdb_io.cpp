@@ -108,6 +108,7 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
     meta.insertMeta("jade:cube_min", openvdb::Vec3DMetadata(openvdb::Vec3d(
                                          v.cube.min[0], v.cube.min[1], v.cube.min[2])));
     meta.insertMeta("jade:cube_side", openvdb::DoubleMetadata(v.cube.side));
+    meta.insertMeta("jade:exposure", openvdb::DoubleMetadata(v.exposure));
     meta.insertMeta("jade:units",
                     openvdb::StringMetadata("sigma_s, sigma_a, density per world unit; "
                                             "paper coefficients x density_scale / cube_side"));
@@ -181,6 +182,10 @@ MaterialVolume read_material_vdb(const std::string& path) {
     const auto cmin = required_meta<openvdb::Vec3d>(*meta, path, "jade:cube_min");
     v.cube.min = {cmin[0], cmin[1], cmin[2]};
     v.cube.side = required_meta<double>(*meta, path, "jade:cube_side");
+    // Files from before the exposure was stored have none: 0, never fitted.
+    if (const auto e = meta->getMetadata<openvdb::DoubleMetadata>("jade:exposure")) v.exposure = e->value();
+    if (!(v.exposure >= 0.0) || !std::isfinite(v.exposure))
+        fail_file(path, "metadata 'jade:exposure' must be a finite number >= 0");
     if (v.resolution < 1 || v.resolution > 4096 || !(v.cube.side > 0))
         fail_file(path, "metadata gives an impossible resolution or cube side");
     try {

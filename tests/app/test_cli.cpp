@@ -4,6 +4,9 @@
 
 #include "jade/io/image_io.h"
 
+using jade::ImageF32;
+using jade::read_image_f32;
+
 #include "support/test_util.h"
 
 #include <catch2/catch.hpp>
@@ -236,6 +239,8 @@ namespace {
 const std::string kCow = std::string(JADE_DATA_DIR) + "/meshes/spot-cow.obj";
 // Small and quick: a 32^3 volume, 48x48 renders.
 const std::string kSmall = " --resolution 32 --width 48 --height 48 --spp 8 --fit-width 48 --fit-spp 16 ";
+// The final render of kSmall, as `render` flags.
+const std::string kSmallRender = " --width 48 --height 48 --spp 8 ";
 
 std::string json_field(const std::string& json, const std::string& key) {
     const auto at = json.find("\"" + key + "\"");
@@ -362,4 +367,44 @@ TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained result
         else
             CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
     }
+}
+
+TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries the exposure",
+          "[cli][fit][job]") {
+    TempDir dir;
+    const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall +
+                                  " --fit-max-renders 3 --out " + dir.file("o"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    auto same_pixels = [](const std::string& a, const std::string& b) {
+        const ImageF32 x = read_image_f32(a), y = read_image_f32(b);
+        return x.width == y.width && x.height == y.height && x.pixels == y.pixels;
+    };
+    // The job in report.json, replayed into another file: the same image, bit for bit.
+    const Result replay = run(dir, "render --job " + dir.file("o/report.json") + " --out " + dir.file("replay.exr"));
+    INFO(replay.out << replay.err);
+    REQUIRE(replay.code == 0);
+    CHECK(same_pixels(dir.file("o/render.exr"), dir.file("replay.exr")));
+    CHECK(same_pixels(dir.file("o/render.png"), dir.file("replay.png")));
+    // A flag beside the job overrides its key.
+    REQUIRE(run(dir, "render --job " + dir.file("o/report.json") + " --spp 2 --out " + dir.file("two.exr")).code == 0);
+    CHECK_FALSE(same_pixels(dir.file("o/render.exr"), dir.file("two.exr")));
+    // Rendering the volume by itself uses the fitted exposure for the PNG: the
+    // pipeline's render.png, bit for bit (same framing, samples and seed).
+    const Result plain = run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kCow +
+                                      kSmallRender + " --out " + dir.file("plain.exr"));
+    INFO(plain.out << plain.err);
+    REQUIRE(plain.code == 0);
+    CHECK(same_pixels(dir.file("o/render.png"), dir.file("plain.png")));
+    // --exposure overrides it.
+    REQUIRE(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kCow + kSmallRender +
+                         " --exposure 1 --out " + dir.file("dim.exr")).code == 0);
+    CHECK_FALSE(same_pixels(dir.file("o/render.png"), dir.file("dim.png")));
+    // A job file that is not one: exit 2, one line naming it.
+    std::ofstream(dir.file("bad.json")) << "{\"nothing\": 1}";
+    const Result bad = run(dir, "render --job " + dir.file("bad.json") + " --out " + dir.file("x.exr"));
+    CHECK(bad.code == 2);
+    CHECK(lines(bad.err) == 1);
+    CHECK_THAT(bad.err, Catch::Contains("bad.json"));
 }

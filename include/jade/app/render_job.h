@@ -1,8 +1,8 @@
 #pragma once
-// `jaderender render`: everything one render needs, as plain options, turned
-// into a scene (mesh, medium, lights, camera), rendered progressively and
-// written out. The command-line front end only fills RenderJob.
+// `jaderender render`: a job (app/job.h) turned into a scene (mesh, medium,
+// lights, camera), rendered progressively and written out.
 
+#include "jade/app/job.h"
 #include "jade/render/camera.h"
 #include "jade/render/dielectric.h"
 #include "jade/geometry/mesh_accel.h"
@@ -18,47 +18,6 @@
 
 namespace jade {
 
-struct RenderJob {
-    // Scene
-    std::string mesh;                          // .obj / .gltf / .glb
-    bool flat_normals = false;                 // shade with face normals
-    bool allow_open = false;                   // render a badly open mesh anyway
-    std::string volume;                        // .vdb: a jaderender volume or foreign grids
-    std::optional<std::array<float, 3>> ks;    // override a jaderender volume's k_s
-    DensityConversion density;                 // for a foreign `density` grid
-    std::optional<Spectrum> sigma_s, sigma_a;  // a homogeneous medium instead of a volume
-    BoundaryParams interface;
-    float g = 0.f;                             // Henyey–Greenstein asymmetry
-
-    // Camera: from a glTF file's first camera when camera_file is set, else
-    // framed from the mesh unless origin is given.
-    std::string camera_file;
-    std::optional<glm::vec3> camera_origin;
-    glm::vec3 camera_target{0.f};
-    bool camera_target_given = false;
-    glm::vec3 camera_up{0.f, 1.f, 0.f};
-    float fov_degrees = 40.f;                  // horizontal
-    int width = 512, height = 512;
-
-    // Light
-    glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
-    float light_irradiance = 3.f;
-    float light_radius_degrees = 20.f;
-    std::string environment = "0.01";          // "v", "r,g,b", or a lat-long image: a dim fill (README: "Defaults")
-    float environment_scale = 1.f;
-    std::string background;                    // image behind the object
-    bool transparent = false;
-
-    RenderSettings settings;
-    std::string reference;                     // image to measure RMSE against
-
-    // Outputs: out (.exr); "auto" puts the PNG beside it (same name) and
-    // convergence.csv in its folder; "" skips either.
-    std::string out;
-    std::string png = "auto";
-    std::string convergence = "auto";
-};
-
 struct RenderJobResult {
     RenderResult render;
     std::vector<std::string> warnings;  // e.g. an open mesh
@@ -66,6 +25,7 @@ struct RenderJobResult {
     std::string medium_description;
     std::size_t medium_bytes = 0;
     double load_seconds = 0.0;
+    float exposure = 1.f;               // the PNG's: the job's, the volume's fitted one, or 1
 };
 
 // Validates the job, loads everything, renders, writes the outputs (each whole

@@ -43,6 +43,10 @@ struct MaterialVolume {
     OpticalParams optics;
     Cube cube;
     std::string photo;           // the photo it was matched to (for the record)
+    // The fit's render → display exposure (docs/design.md, "Display space"):
+    // what a render of this volume is multiplied by before sRGB to look like
+    // the photo. 0 = never fitted.
+    double exposure = 0.0;
 
     std::size_t index(int x, int y, int z) const {
         return (std::size_t(z) * resolution + y) * resolution + x;

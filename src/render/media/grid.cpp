@@ -39,8 +39,12 @@ TrilinearStencil trilinear_stencil(const GridPlacement& g, const glm::vec3& p) {
 
 MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube,
                                            const Spectrum& majorant_floor)
+    : MaterialVolumeMedium(volume, cube, volume.optics, majorant_floor) {}
+
+MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube,
+                                           const OpticalParams& optics, const Spectrum& majorant_floor)
     : volume_(volume), grid_(GridPlacement::of_cube(volume.resolution, cube)),
-      table_(volume.optics, cube.side) {
+      table_(optics, cube.side) {
     if (volume.levels.size() != grid_.voxels())
         throw Error("internal: material volume has the wrong number of voxels");
     // The majorant is the largest σ_t over the levels that actually occur.

@@ -33,6 +33,10 @@ public:
     // which keeps renders at nearby coefficients correlated (the fitter's use).
     MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube,
                          const Spectrum& majorant_floor = Spectrum(0.f));
+    // The same levels under other optical parameters (e.g. a k_s the fit
+    // tries), without touching the volume.
+    MaterialVolumeMedium(const MaterialVolume& volume, const Cube& cube, const OpticalParams& optics,
+                         const Spectrum& majorant_floor = Spectrum(0.f));
     MediumProperties at(const glm::vec3& p) const override;
     Spectrum majorant() const override { return majorant_; }
     std::size_t memory_bytes() const override;

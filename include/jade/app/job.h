@@ -1,0 +1,71 @@
+#pragma once
+// A render as a document: scene, medium, camera, lights, settings and
+// outputs as plain data, read from and written to JSON. report.json embeds
+// the pipeline's final render as one; `jaderender render --job FILE` replays
+// it (flags given beside it override single keys). Paths in a document are
+// relative to the document's folder, as in Mitsuba's scene files.
+
+#include "jade/io/vdb_io.h"
+#include "jade/render/dielectric.h"
+#include "jade/render/renderer.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <optional>
+#include <string>
+
+namespace jade {
+
+struct RenderJob {
+    // Scene
+    std::string mesh;                          // .obj / .gltf / .glb
+    bool flat_normals = false;                 // shade with face normals
+    bool allow_open = false;                   // render a badly open mesh anyway
+    std::string volume;                        // .vdb: a jaderender volume or foreign grids
+    std::optional<std::array<float, 3>> ks;    // override a jaderender volume's k_s
+    DensityConversion density;                 // for a foreign `density` grid
+    std::optional<Spectrum> sigma_s, sigma_a;  // a homogeneous medium instead of a volume
+    BoundaryParams interface;
+    float g = 0.f;                             // Henyey–Greenstein asymmetry
+
+    // Camera: from a glTF file's first camera when camera_file is set, else
+    // framed from the mesh unless origin is given.
+    std::string camera_file;
+    std::optional<glm::vec3> camera_origin;
+    glm::vec3 camera_target{0.f};
+    bool camera_target_given = false;
+    glm::vec3 camera_up{0.f, 1.f, 0.f};
+    float fov_degrees = 40.f;                  // horizontal
+    int width = 512, height = 512;
+
+    // Light
+    glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
+    float light_irradiance = 3.f;
+    float light_radius_degrees = 20.f;
+    std::string environment = "0.01";          // "v", "r,g,b", or a lat-long image: a dim fill (README: "Defaults")
+    float environment_scale = 1.f;
+    std::string background;                    // image behind the object
+    bool transparent = false;
+
+    RenderSettings settings;
+    std::string reference;                     // image to measure RMSE against
+
+    // Outputs: out (.exr); "auto" puts the PNG beside it (same name) and
+    // convergence.csv in its folder; "" skips either.
+    std::string out;
+    std::string png = "auto";
+    std::string convergence = "auto";
+    // The PNG's exposure (render → display factor before sRGB): 0 = the one
+    // a jaderender .vdb stores from its fit, else 1.
+    float exposure = 0.f;
+};
+
+// The job as JSON text, its paths made relative to `base_dir`.
+std::string job_json(const RenderJob& job, const std::string& base_dir);
+// Reads a job document: a file holding one (a "job" object, as report.json
+// does) or being one. Relative paths are resolved against its folder.
+// Throws jade::Error naming the file and the key.
+RenderJob load_job(const std::string& path);
+
+}  // namespace jade

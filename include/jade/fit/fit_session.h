@@ -1,0 +1,97 @@
+#pragma once
+// The fit of k_s to the photo as one object (paper §5.4; docs/design.md,
+// "The fit"): fitting renders of the material volume at explicit k_s (the
+// volume itself is never changed), the sample count they need, renders at
+// both k_s bounds that bracket the search and fix the exposure, a driver
+// that moves each channel, and an outcome with each channel's state.
+//
+// Fitting renders leave the background out (only the object's pixels
+// count), render a reduced image with the same random sequence every time,
+// and share one majorant (that of k_s = k_max): every render makes the same
+// tentative collisions, so A(k_s) changes smoothly with k_s.
+
+#include "jade/core/progress.h"
+#include "jade/core/timing.h"
+#include "jade/fit/display.h"
+#include "jade/fit/driver.h"
+#include "jade/render/camera.h"
+#include "jade/render/renderer.h"
+#include "jade/render/scene.h"
+#include "jade/volume/material_volume.h"
+#include "jade/volume/photo.h"
+
+#include <array>
+#include <optional>
+#include <vector>
+
+namespace jade {
+
+struct FitOptions {
+    FitMethod method = FitMethod::Bisect;
+    std::optional<std::array<double, 3>> ks_start;  // default: the volume's own k_s
+    int width = 0;              // fitting renders: 0 = a quarter of the camera's width (at least 32)
+    int spp = 0;                // 0 = chosen by the first fitting render
+    double noise = 0.3;         // standard error of A, gray levels, the chosen spp must reach
+    double error = 0.4;         // and the estimated relative error (per pixel)
+    int spp_max = 4096;         // the most the first fitting render doubles to
+    int max_renders = 24;
+    double k_max = 4.0;         // FitLimits::k_max; k_min follows from the volume
+    float exposure = 0.f;       // 0 = from the renders at both k_s bounds
+    void validate() const;      // throws jade::Error naming the flag
+};
+
+// One fitting render: a row of fit.csv.
+struct FitRecord {
+    int iteration = 0;
+    double seconds = 0.0;  // since fitting began
+    int spp = 0;
+    std::array<double, 3> ks{}, a_photo{}, a_render{}, a_sigma{}, delta{}, distance{};
+};
+
+struct FitOutcome {
+    std::array<double, 3> ks{};           // fitted: the best found per channel
+    std::array<double, 3> ks_start{};
+    std::array<ChannelState, 3> state{};
+    std::array<std::string, 3> reason;    // why a channel stopped unconverged
+    bool converged = false;
+    float exposure = 1.f;                 // given, or found from the bounds
+    bool exposure_matched = false;
+    FitLimits limits;
+    std::vector<FitRecord> records;
+    int spp = 0, width = 0, height = 0;   // of the fitting renders
+    double estimated_error = 0.0;         // of the first fitting render
+    double seconds = 0.0;
+};
+
+class FitSession {
+public:
+    // Everything is referenced, not copied: it must outlive the session.
+    FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
+               const RenderSettings& settings, const Photo& photo, const FitOptions& options);
+    // The smallest k_s per channel: σ_s = v·d_s + k_s reaches 0 in the lowest voxel.
+    const FitLimits& limits() const { return limits_; }
+    // A fitting render at `ks` with `spp` samples per pixel.
+    RenderResult render_at(const std::array<double, 3>& ks, int spp) const;
+    FitOutcome run(Progress* progress = nullptr);
+
+private:
+    RenderResult fitting_render(const std::array<double, 3>& ks);
+    std::array<double, 3> record(const std::array<double, 3>& ks, const Film& film);
+    void bracket(FitDriver& driver);
+    void finish(const FitDriver& driver);
+
+    const MaterialVolume& volume_;
+    const Scene& scene_;
+    const Photo& photo_;
+    FitOptions options_;
+    FitLimits limits_;
+    PinholeCamera camera_;
+    RenderSettings settings_;
+    RgbHistogram photo_histogram_;
+    Spectrum shared_majorant_;
+    Stopwatch clock_;
+    Progress* progress_ = nullptr;
+    FitOutcome outcome_;
+};
+
+}  // namespace jade

@@ -1,0 +1,103 @@
+#include "jade/app/report.h"
+
+#include "jade/app/job.h"
+#include "jade/core/timing.h"
+#include "jade/io/vdb_io.h"
+
+#include <OpenImageIO/oiioversion.h>
+#include <embree3/rtcore_config.h>
+#include <nlohmann/json.hpp>
+#include <oneapi/tbb/version.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace jade {
+
+std::string channel_status(const FitOutcome& fit, int c) {
+    if (fit.state[c] == ChannelState::Converged)
+        return fit.records.empty() ? "not fitted" : "converged";
+    return fit.reason[c];
+}
+
+std::string fit_csv(const std::vector<FitRecord>& rows) {
+    std::string s = "iteration,seconds,spp";
+    const char* ch[3] = {"r", "g", "b"};
+    for (const char* name : {"ks", "A_photo", "A_render", "A_sigma", "dA", "D"})
+        for (const char* c : ch) s += std::string(",") + name + "_" + c;
+    s += "\n";
+    char buf[64];
+    for (const FitRecord& r : rows) {
+        std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
+        s += buf;
+        for (const auto* arr : {&r.ks, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance})
+            for (double v : *arr) {
+                std::snprintf(buf, sizeof buf, ",%.6g", v);
+                s += buf;
+            }
+        s += "\n";
+    }
+    return s;
+}
+
+std::string pipeline_report(const PipelineReport& in) {
+    using nlohmann::json;
+    const PipelineOptions& o = in.options;
+    const PipelineResult& res = in.result;
+    const MaterialVolume& volume = in.volume;
+    const FitOutcome& fit = res.fit;
+    const PassRecord& last = res.final_render.passes.back();
+    json j;
+    j["versions"] = {{"jaderender", JADE_VERSION},      {"openvdb", openvdb_version()},
+                     {"openimageio", OIIO_VERSION_STRING}, {"embree", RTC_VERSION_STRING},
+                     {"tbb", TBB_VERSION_STRING}};
+    j["inputs"] = {{"photo", o.photo}, {"mask", o.mask}, {"mesh", o.render.mesh},
+                   {"foreground_pixels", in.photo.foreground_count()}};
+    j["volume"] = {{"from", o.volume.empty() ? "built from the photo" : o.volume},
+                   {"resolution", volume.resolution}, {"octaves", volume.noise.octaves},
+                   {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"match", to_string(volume.match)},
+                   {"ds", volume.optics.ds}, {"da", volume.optics.da},
+                   {"density_scale", volume.optics.density_scale},
+                   {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side}};
+    std::array<std::string, 3> status;
+    for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);
+    j["fit"] = {{"method", to_string(o.fit.method)}, {"renders", fit.records.size()},
+                {"max_renders", o.fit.max_renders}, {"spp", fit.spp}, {"width", fit.width},
+                {"height", fit.height}, {"noise_target", o.fit.noise}, {"error_target", o.fit.error},
+                {"estimated_relative_error", fit.estimated_error}, {"exposure", fit.exposure},
+                {"exposure_matched", fit.exposure_matched}, {"tolerance", fit.limits.tolerance},
+                {"step", fit.limits.step}, {"ks_start", fit.ks_start}, {"ks_min", fit.limits.k_min},
+                {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"converged", fit.converged},
+                {"channel_status", status}};
+    if (!fit.records.empty()) {
+        // The fitting render at the chosen k_s (the best per channel may come from different renders).
+        std::array<double, 3> delta{}, dist{};
+        for (int c = 0; c < 3; ++c) {
+            double best = 1e300;
+            for (const FitRecord& r : fit.records)
+                if (r.ks[c] == fit.ks[c] && std::abs(r.delta[c]) < best) {
+                    best = std::abs(r.delta[c]);
+                    delta[c] = r.delta[c];
+                    dist[c] = r.distance[c];
+                }
+        }
+        j["fit"]["final_delta_A"] = delta;
+        j["fit"]["final_D"] = dist;
+    }
+    j["final_render"] = {{"width", in.replay.width}, {"height", in.replay.height},
+                         {"spp", last.spp}, {"seconds", res.final_render.seconds},
+                         {"estimated_relative_error", last.estimated_error},
+                         {"stopped_by", res.final_render.stopped_by},
+                         {"capped_paths", res.final_render.counters.capped_paths},
+                         {"A_render", in.final_stats.a}};
+    // The final render as a job document: `jaderender render --job report.json` replays it.
+    j["job"] = json::parse(job_json(in.replay, in.report_dir));
+    j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
+                    {"final_render", res.seconds_render}, {"write", res.seconds_write},
+                    {"total", res.seconds_total}};
+    j["peak_memory_bytes"] = peak_rss_bytes();
+    j["warnings"] = res.warnings;
+    return j.dump(2) + "\n";
+}
+
+}  // namespace jade
