@@ -83,7 +83,7 @@ TEST_CASE("the material volume becomes world coefficients on any cube", "[medium
         cube.side = side;
         const MaterialVolumeMedium m(v, cube);
         const double h = side / 4;
-        // Centre of voxel (0, 0, 0): σ_s = (v_c d_s + k_s) · density_scale / side (§5.1, DESIGN §4).
+        // Centre of voxel (0, 0, 0): σ_s = (v_c d_s + k_s) · density_scale / side (§5.1; docs/design.md, "Units").
         const MediumProperties p = m.at({float(2.0 + h / 2), float(-1.0 + h / 2), float(h / 2)});
         const double scale = v.optics.density_scale / side;
         CHECK(p.sigma_s.x == Approx((128 / 256.0 + 0.1) * scale));

@@ -1,5 +1,5 @@
 #pragma once
-// RGB radiometric quantities. Transport is carried per RGB channel (DESIGN §3):
+// RGB radiometric quantities. Transport is carried per RGB channel (docs/design.md, "Coefficients"):
 // coefficients, throughputs and radiance are three floats, one per channel.
 
 #include <glm/vec3.hpp>

@@ -54,9 +54,8 @@ public:
     ChannelState state(int c) const { return channel_[c].state; }
     // Why a channel stopped (empty while searching).
     const std::string& reason(int c) const { return channel_[c].reason; }
-    // The k_s with the smallest |ΔA| seen per channel, and that |ΔA|.
+    // The k_s with the smallest |ΔA| seen per channel.
     const std::array<double, 3>& best_k() const { return best_k_; }
-    const std::array<double, 3>& best_abs_delta() const { return best_abs_; }
 
 private:
     struct Channel {

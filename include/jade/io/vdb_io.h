@@ -1,5 +1,5 @@
 #pragma once
-// The material volume on disk as OpenVDB (DESIGN §10). OpenVDB is confined to
+// The material volume on disk as OpenVDB (docs/design.md, "The .vdb file"). OpenVDB is confined to
 // src/vdb_io.cpp: it compiles slowly, and the renderer samples plain arrays.
 //
 // Grids (all fog volumes, background 0, every voxel of the cube active):

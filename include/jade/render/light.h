@@ -1,5 +1,5 @@
 #pragma once
-// The scene's light (paper §5.3, §6; DESIGN §7): one white directional light,
+// The scene's light (paper §5.3, §6; docs/design.md, "Lights"): one white directional light,
 // an environment ("global illumination") seen by every ray that leaves the
 // scene, and a background image seen by camera rays that miss the object.
 //
@@ -59,8 +59,6 @@ public:
     // Radiance looking toward direction w (unit).
     Spectrum radiance_toward(const glm::vec3& w) const;
     bool black() const { return !image_ && constant_ == Spectrum(0.f); }
-    bool constant() const { return !image_; }
-    const Spectrum& constant_radiance() const { return constant_; }
 
 private:
     Spectrum constant_{0.f};

@@ -1,5 +1,5 @@
 #pragma once
-// Phase functions of the medium (paper §5.2, DESIGN §5). Directions are
+// Phase functions of the medium (paper §5.2; docs/design.md, "Phase function"). Directions are
 // propagation directions: cos θ = dot(incoming, outgoing), so g > 0 scatters
 // forward. Both functions are sampled exactly: the sampling weight
 // p(ω)/pdf(ω) is 1, and eval() returns the pdf for multiple importance sampling.

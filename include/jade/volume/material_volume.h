@@ -6,7 +6,7 @@
 //   v_c   = level / 256                          (per channel, in [0, 1))
 //   σ_s   = max(0, v_c · d_s + k_s)              (paper units)
 //   σ_a   = (1 − v_c) · d_s · d_a
-//   world = paper · density_scale / cube side    (per world unit; DESIGN §4)
+//   world = paper · density_scale / cube side    (per world unit; docs/design.md, "Units")
 //
 // Only the levels are stored (3 bytes a voxel): the coefficients are a
 // function of a level and five scalars, so changing k_s, d_a or the scale
