@@ -29,6 +29,7 @@ namespace {
 struct VolumeOptions {
     std::string photo, mask, out, preview;
     jade::NoiseParams noise;
+    std::string structure = "photo";
     std::string match = "joint";
     jade::OpticalParams optics;
 };
@@ -43,7 +44,27 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
     cmd.add_option("--octaves", o.noise.octaves, "fBm octaves n (0 = floor(log2(s)), the paper's)")
         ->capture_default_str();
-    cmd.add_option("--k", o.noise.k, "fBm amplitude ratio k, 0 < k < 1")->capture_default_str();
+    cmd.add_option("--structure", o.structure,
+                   "Noise structure: 'photo' (frequency, k, stretch and angle estimated from the photo's "
+                   "spectrum) or 'fbm' (the paper's, or as given by --frequency, --k, --stretch, --angle)")
+        ->capture_default_str();
+    cmd.add_option("--k", o.noise.k, "fBm amplitude ratio k, 0 < k < 1 (--structure fbm)")->capture_default_str();
+    cmd.add_option("--frequency", o.noise.frequency,
+                   "fBm base frequency, cycles per cube side (--structure fbm)")
+        ->capture_default_str();
+    cmd.add_option("--stretch", o.noise.stretch,
+                   "Elongation of the noise along --angle and depth, >= 1 (--structure fbm)")
+        ->capture_default_str();
+    cmd.add_option("--angle", o.noise.angle,
+                   "Direction of the stretch, degrees counterclockwise from +x as seen from +z "
+                   "(--structure fbm)")
+        ->capture_default_str();
+    cmd.add_option("--bands", o.noise.bands,
+                   "Layers per cube side across --angle, warped by the fBm (Perlin's marble); 0 = plain "
+                   "fBm (--structure fbm)")
+        ->capture_default_str();
+    cmd.add_option("--warp", o.noise.warp, "How far the fBm displaces the layers, in cube sides (--structure fbm)")
+        ->capture_default_str();
     cmd.add_option("--seed", o.noise.seed, "Noise seed")->capture_default_str();
     cmd.add_option("--match", o.match, "Colour matching: 'joint' (real photo colours) or "
                                        "'per-channel' (the paper's)")
@@ -69,25 +90,36 @@ int run_volume(const VolumeOptions& o) {
     const double photo_s = t_photo.seconds();
 
     const jade::Stopwatch t_volume;
+    const jade::StructureMode structure = jade::parse_structure_mode(o.structure);
+    jade::StructureEstimate estimate;
+    const jade::NoiseParams noise = jade::choose_noise(photo, o.noise, structure, &estimate);
     jade::MaterialVolume volume;
     {
         jade::Progress progress("noise + colour matching", std::size_t(o.noise.resolution));
-        volume = jade::build_material_volume(photo, o.noise, match, o.optics, &progress);
+        volume = jade::build_material_volume(photo, noise, match, o.optics, &progress);
     }
+    volume.structure = structure;
     const double volume_s = t_volume.seconds();
 
     const jade::Stopwatch t_write;
     jade::write_material_vdb(o.out, volume);
     const double write_s = t_write.seconds();
 
+    if (structure == jade::StructureMode::Photo)
+        std::printf("structure from the photo in %.2f s: slice-to-photo structure distance %.3f (the paper's "
+                    "fBm: %.3f); orientation strength %.2f, coherence %.2f (photo: %.2f, %.2f)\n",
+                    estimate.seconds, estimate.chosen.distance, estimate.paper.distance, estimate.chosen.strength,
+                    estimate.chosen.coherence, estimate.photo.strength, estimate.photo.coherence);
     if (!o.preview.empty())
         jade::write_image_u8(o.preview, volume.resolution, volume.resolution, 3,
                              jade::slice_image(volume, volume.resolution / 2));
 
-    std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); photo %.2f s, "
-                "noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
+    std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s: frequency %.2f, "
+                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f; photo %.2f s, "
+                "structure+noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
                 volume.resolution, double(volume.levels.size()) / 1e6, jade::to_string(match),
-                photo.foreground_count(), photo_s, volume_s, write_s, o.out.c_str(),
+                photo.foreground_count(), jade::to_string(structure), noise.frequency, noise.k, noise.stretch,
+                noise.angle, noise.bands, noise.warp, photo_s, volume_s, write_s, o.out.c_str(),
                 jade::format_megabytes(double(jade::file_size(o.out))).c_str(), total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
     return 0;
@@ -328,6 +360,7 @@ int run_pipeline(PipelineFlags& p) {
     o.photo = p.volume.photo;
     o.mask = p.volume.mask;
     o.noise = p.volume.noise;
+    o.structure = jade::parse_structure_mode(p.volume.structure);
     o.match = jade::parse_match_mode(p.volume.match);
     o.optics = p.volume.optics;
     if (p.ks_start.given()) {
@@ -357,6 +390,13 @@ int run_pipeline(PipelineFlags& p) {
     const jade::PassRecord& last = r.final_render.passes.back();
     std::printf("final render: %d spp in %.1f s, estimated relative error %.4f\n", last.spp,
                 r.final_render.seconds, last.estimated_error);
+    if (r.structure_estimated)
+        std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
+                    "bands %.1f, warp %.2f; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",
+                    r.seconds_structure, r.structure.chosen.noise.frequency, r.structure.chosen.noise.k,
+                    r.structure.chosen.noise.stretch, r.structure.chosen.noise.angle, r.structure.chosen.noise.bands,
+                    r.structure.chosen.noise.warp, r.structure.chosen.distance,
+                    r.structure.paper.distance);
     std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, final render %.2f, writing %.2f; total %.1f; "
                 "peak memory %s\n",
                 r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_render, r.seconds_write,

@@ -18,3 +18,12 @@ find_package(Catch2 2 CONFIG REQUIRED)
 # OpenVDB ships only a Find module, in its own folder.
 list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
 find_package(OpenVDB REQUIRED)
+
+# OpenCV's core (its DFT, for texture spectra). Debian's libopencv-core-dev
+# ships no CMake config of its own, so the library is found by name.
+find_path(JADE_OPENCV_INCLUDE_DIR opencv2/core.hpp PATH_SUFFIXES opencv4 REQUIRED)
+find_library(JADE_OPENCV_CORE_LIBRARY opencv_core REQUIRED)
+add_library(OpenCV::core UNKNOWN IMPORTED)
+set_target_properties(OpenCV::core PROPERTIES
+  IMPORTED_LOCATION ${JADE_OPENCV_CORE_LIBRARY}
+  INTERFACE_INCLUDE_DIRECTORIES ${JADE_OPENCV_INCLUDE_DIR})

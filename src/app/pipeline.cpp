@@ -41,11 +41,22 @@ std::string output_folder(const PipelineOptions& o) {
     return dir;
 }
 
-MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const Cube& cube) {
+// The volume read from --volume, or built from the photo with the structure
+// chosen (and, for an estimate, reported) first.
+MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const Cube& cube, PipelineResult& res) {
+    if (!o.volume.empty()) {
+        MaterialVolume volume = read_material_vdb(o.volume);
+        volume.cube = cube;
+        return volume;
+    }
+    const Stopwatch clock;
+    res.structure_estimated = o.structure == StructureMode::Photo;
+    const NoiseParams noise = choose_noise(photo, o.noise, o.structure, &res.structure);
+    res.seconds_structure = clock.seconds();
     std::unique_ptr<Progress> bar;
-    if (o.progress) bar = std::make_unique<Progress>("noise + colour matching", std::size_t(o.noise.resolution));
-    MaterialVolume volume = o.volume.empty() ? build_material_volume(photo, o.noise, o.match, o.optics, bar.get())
-                                             : read_material_vdb(o.volume);
+    if (o.progress) bar = std::make_unique<Progress>("noise + colour matching", std::size_t(noise.resolution));
+    MaterialVolume volume = build_material_volume(photo, noise, o.match, o.optics, bar.get());
+    volume.structure = o.structure;
     volume.cube = cube;
     return volume;
 }
@@ -133,7 +144,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     res.seconds_photo = clock.seconds();
 
     clock = Stopwatch();
-    MaterialVolume volume = make_volume(o, photo, prep->cube);
+    MaterialVolume volume = make_volume(o, photo, prep->cube, res);
     res.seconds_volume = clock.seconds();
 
     {

@@ -55,10 +55,25 @@ std::string pipeline_report(const PipelineReport& in) {
                    {"foreground_pixels", in.photo.foreground_count()}};
     j["volume"] = {{"from", o.volume.empty() ? "built from the photo" : o.volume},
                    {"resolution", volume.resolution}, {"octaves", volume.noise.octaves},
-                   {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"match", to_string(volume.match)},
+                   {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"structure", to_string(volume.structure)},
+                   {"frequency", volume.noise.frequency}, {"stretch", volume.noise.stretch},
+                   {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
+                   {"match", to_string(volume.match)},
                    {"ds", volume.optics.ds}, {"da", volume.optics.da},
                    {"density_scale", volume.optics.density_scale},
                    {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side}};
+    if (res.structure_estimated) {
+        // The structure distance (texture_spectrum.h) of the volume's slices to
+        // the photo, for the estimate and for the paper's fBm.
+        const StructureEstimate& e = res.structure;
+        j["structure"] = {{"seconds", res.seconds_structure},
+                          {"photo_orientation", e.photo.orientation},
+                          {"photo_strength", e.photo.strength},
+                          {"distance", e.chosen.distance},
+                          {"strength", e.chosen.strength},
+                          {"paper_fbm_distance", e.paper.distance},
+                          {"paper_fbm_strength", e.paper.strength}};
+    }
     std::array<std::string, 3> status;
     for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);
     j["fit"] = {{"method", to_string(o.fit.method)}, {"renders", fit.records.size()},

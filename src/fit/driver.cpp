@@ -1,6 +1,7 @@
 #include "jade/fit/driver.h"
 
 #include "jade/core/error.h"
+#include "jade/core/spectrum.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 namespace jade {
 
 namespace {
-const char* kChannel[3] = {"red", "green", "blue"};
 }
 
 const char* to_string(FitMethod m) {
@@ -96,14 +96,14 @@ void FitDriver::observe_channel(int c, double delta) {
     // At a bound, still on the same side: no k_s in range reaches the photo.
     if (dir < 0 && k <= limits_.k_min[c] + 1e-12) {
         ch.state = ChannelState::Unreachable;
-        ch.reason = std::string(kChannel[c]) + ": the render is brighter than the photo even without " +
+        ch.reason = std::string(channel_name(c)) + ": the render is brighter than the photo even without " +
                     "scattering offset (k_s at its minimum, where sigma_s reaches 0): the photo is darker "
                     "than the material's absorption allows; raise --da or --density-scale";
         return;
     }
     if (dir > 0 && k >= limits_.k_max - 1e-12) {
         ch.state = ChannelState::Unreachable;
-        ch.reason = std::string(kChannel[c]) + ": the render is darker than the photo even at k_s = " +
+        ch.reason = std::string(channel_name(c)) + ": the render is darker than the photo even at k_s = " +
                     std::to_string(limits_.k_max) + ": the photo is brighter than any albedo the "
                     "material allows under this light; raise the light or lower --da";
         return;
@@ -114,7 +114,7 @@ void FitDriver::observe_channel(int c, double delta) {
         // grid points the paper's step cannot land on.
         if (ch.have_prev && (ch.prev_delta > 0) != (delta > 0)) {
             ch.state = ChannelState::Unreachable;
-            ch.reason = std::string(kChannel[c]) + ": one step of " + std::to_string(limits_.step) +
+            ch.reason = std::string(channel_name(c)) + ": one step of " + std::to_string(limits_.step) +
                         " moves A by more than " + std::to_string(2 * limits_.tolerance) +
                         " gray levels, so the step driver cannot meet |dA| < " +
                         std::to_string(limits_.tolerance) + "; the best k_s is kept (try --fit bisect)";
@@ -138,7 +138,7 @@ void FitDriver::observe_channel(int c, double delta) {
     if (ch.bracketed) {
         if (ch.hi - ch.lo < 1e-3) {
             ch.state = ChannelState::Unreachable;
-            ch.reason = std::string(kChannel[c]) + ": A crosses the goal by more than the tolerance within " +
+            ch.reason = std::string(channel_name(c)) + ": A crosses the goal by more than the tolerance within " +
                         "k_s +- 0.001 (render noise or 8-bit quantisation), or the root moved outside the " +
                         "bracket; the best k_s is kept (raise --fit-spp or lower --fit-error)";
             return;

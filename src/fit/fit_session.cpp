@@ -1,6 +1,7 @@
 #include "jade/fit/fit_session.h"
 
 #include "jade/core/error.h"
+#include "jade/core/spectrum.h"
 #include "jade/render/media/grid.h"
 
 #include <algorithm>
@@ -29,7 +30,6 @@ FitLimits limits_for(const MaterialVolume& volume, double k_max) {
     return limits;
 }
 
-const char* kChannelName[3] = {"red", "green", "blue"};
 
 }  // namespace
 
@@ -179,7 +179,7 @@ void FitSession::finish(const FitDriver& driver) {
         outcome_.state[c] = driver.state(c);
         if (driver.state(c) == ChannelState::Unreachable) outcome_.reason[c] = driver.reason(c);
         if (driver.state(c) == ChannelState::Searching)
-            outcome_.reason[c] = std::string(kChannelName[c]) + ": not converged within --fit-max-renders " +
+            outcome_.reason[c] = std::string(channel_name(c)) + ": not converged within --fit-max-renders " +
                                  std::to_string(options_.max_renders) + " renders";
         if (driver.state(c) != ChannelState::Converged) outcome_.converged = false;
     }

@@ -48,14 +48,10 @@ openvdb::math::Transform::Ptr cube_transform(const MaterialVolume& v) {
     return xform;
 }
 
-}  // namespace
-
-void write_material_vdb(const std::string& path, const MaterialVolume& v) {
-    openvdb::initialize();
+// The four grids of a material volume (docs/design.md, "The .vdb file"),
+// filled from its levels.
+openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v) {
     const int s = v.resolution;
-    if (s <= 0 || v.levels.size() != std::size_t(s) * s * s)
-        throw Error("internal: material volume levels do not match its resolution");
-
     const auto xform = cube_transform(v);
     const auto origins = leaf_origins(s);
     std::vector<openvdb::Vec3fGrid::TreeType::LeafNodeType*> ls, la, lc;
@@ -89,16 +85,26 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
                     ld[li]->setValueOn(off, mean_st);
                 }
     });
+    return {sigma_s, sigma_a, density, color};
+}
 
+// Every parameter needed to rebuild and re-render the volume exactly.
+openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     openvdb::MetaMap meta;
     meta.insertMeta("jade:format", openvdb::StringMetadata(kFormat));
     meta.insertMeta("jade:format_version", openvdb::Int32Metadata(kFormatVersion));
     meta.insertMeta("jade:jaderender_version", openvdb::StringMetadata(JADE_VERSION));
     meta.insertMeta("jade:photo", openvdb::StringMetadata(v.photo));
-    meta.insertMeta("jade:resolution", openvdb::Int32Metadata(s));
+    meta.insertMeta("jade:resolution", openvdb::Int32Metadata(v.resolution));
     meta.insertMeta("jade:octaves", openvdb::Int32Metadata(v.noise.octave_count()));
     meta.insertMeta("jade:k", openvdb::DoubleMetadata(v.noise.k));
     meta.insertMeta("jade:seed", openvdb::Int64Metadata(v.noise.seed));
+    meta.insertMeta("jade:structure", openvdb::StringMetadata(to_string(v.structure)));
+    meta.insertMeta("jade:frequency", openvdb::DoubleMetadata(v.noise.frequency));
+    meta.insertMeta("jade:stretch", openvdb::DoubleMetadata(v.noise.stretch));
+    meta.insertMeta("jade:angle", openvdb::DoubleMetadata(v.noise.angle));
+    meta.insertMeta("jade:bands", openvdb::DoubleMetadata(v.noise.bands));
+    meta.insertMeta("jade:warp", openvdb::DoubleMetadata(v.noise.warp));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
     meta.insertMeta("jade:ds", openvdb::DoubleMetadata(v.optics.ds));
     meta.insertMeta("jade:da", openvdb::DoubleMetadata(v.optics.da));
@@ -112,6 +118,18 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
     meta.insertMeta("jade:units",
                     openvdb::StringMetadata("sigma_s, sigma_a, density per world unit; "
                                             "paper coefficients x density_scale / cube_side"));
+    return meta;
+}
+
+}  // namespace
+
+void write_material_vdb(const std::string& path, const MaterialVolume& v) {
+    openvdb::initialize();
+    const int s = v.resolution;
+    if (s <= 0 || v.levels.size() != std::size_t(s) * s * s)
+        throw Error("internal: material volume levels do not match its resolution");
+    const openvdb::GridPtrVec grids = coefficient_grids(v);
+    const openvdb::MetaMap meta = material_metadata(v);
 
     AtomicFile out(path);
     try {
@@ -124,9 +142,8 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
         // is 30% smaller and faster to write. Without absorption the levels
         // come from sigma_s, where a large k_s would eat that margin: full floats.
         const bool half = v.optics.da > 0.0;
-        for (const auto& g : openvdb::GridPtrVec{sigma_s, sigma_a, density, color})
-            g->setSaveFloatAsHalf(half);
-        file.write({sigma_s, sigma_a, density, color}, meta);
+        for (const auto& g : grids) g->setSaveFloatAsHalf(half);
+        file.write(grids, meta);
         file.close();
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot write OpenVDB file: ") + e.what());
@@ -141,6 +158,116 @@ T required_meta(const openvdb::MetaMap& meta, const std::string& path, const std
     const auto m = meta.getMetadata<openvdb::TypedMetadata<T>>(name);
     if (!m) fail_file(path, "metadata '" + name + "' is missing or has the wrong type");
     return m->value();
+}
+
+
+// The volume's parameters from its jade: metadata, checked; no levels yet.
+MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::string& path) {
+    const auto fmt = meta.getMetadata<openvdb::StringMetadata>("jade:format");
+    if (!fmt || fmt->value() != kFormat)
+        fail_file(path, "not a jaderender material volume (no 'jade:format' metadata)");
+    if (required_meta<openvdb::Int32>(meta, path, "jade:format_version") > kFormatVersion)
+        fail_file(path, "written by a newer jaderender (format version too high)");
+
+    MaterialVolume v;
+    v.resolution = required_meta<openvdb::Int32>(meta, path, "jade:resolution");
+    v.photo = required_meta<std::string>(meta, path, "jade:photo");
+    v.noise.resolution = v.resolution;
+    v.noise.octaves = required_meta<openvdb::Int32>(meta, path, "jade:octaves");
+    v.noise.k = required_meta<double>(meta, path, "jade:k");
+    v.noise.seed = std::uint32_t(required_meta<openvdb::Int64>(meta, path, "jade:seed"));
+    // Files from before the structure was chosen have the paper's fBm.
+    if (const auto m = meta.getMetadata<openvdb::StringMetadata>("jade:structure")) {
+        if (m->value() != "fbm" && m->value() != "photo")
+            fail_file(path, "metadata 'jade:structure' must be 'photo' or 'fbm'");
+        v.structure = parse_structure_mode(m->value());
+    }
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:frequency")) v.noise.frequency = m->value();
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:stretch")) v.noise.stretch = m->value();
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:angle")) v.noise.angle = m->value();
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:bands")) v.noise.bands = m->value();
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:warp")) v.noise.warp = m->value();
+    v.match = parse_match_mode(required_meta<std::string>(meta, path, "jade:match"));
+    v.optics.ds = required_meta<double>(meta, path, "jade:ds");
+    v.optics.da = required_meta<double>(meta, path, "jade:da");
+    const auto ks = required_meta<openvdb::Vec3d>(meta, path, "jade:ks");
+    v.optics.ks = {ks[0], ks[1], ks[2]};
+    v.optics.density_scale = required_meta<double>(meta, path, "jade:density_scale");
+    const auto cmin = required_meta<openvdb::Vec3d>(meta, path, "jade:cube_min");
+    v.cube.min = {cmin[0], cmin[1], cmin[2]};
+    v.cube.side = required_meta<double>(meta, path, "jade:cube_side");
+    // Files from before the exposure was stored have none: 0, never fitted.
+    if (const auto e = meta.getMetadata<openvdb::DoubleMetadata>("jade:exposure")) v.exposure = e->value();
+    if (!(v.exposure >= 0.0) || !std::isfinite(v.exposure))
+        fail_file(path, "metadata 'jade:exposure' must be a finite number >= 0");
+    if (v.resolution < 1 || v.resolution > 4096 || !(v.cube.side > 0))
+        fail_file(path, "metadata gives an impossible resolution or cube side");
+    try {
+        v.optics.validate();
+        v.noise.validate();
+    } catch (const Error& e) {
+        fail_file(path, std::string("metadata: ") + e.what());
+    }
+    return v;
+}
+
+// Inverts the coefficient formula for one voxel: the level whose coefficient
+// is nearest the stored one, searched around the formula's inverse.
+// sigma_a = (1 - v_c) d_s d_a is never clamped; without absorption,
+// sigma_s = v_c d_s + k_s. False when the grids do not follow from that level
+// and the metadata (to half-float precision).
+bool levels_of_voxel(const openvdb::Vec3f& ss, const openvdb::Vec3f& sa, const MaterialVolume& v,
+                     const CoefficientTable& table, Rgb8& lv) {
+    const double to_paper = v.cube.side / v.optics.density_scale;
+    const bool by_a = v.optics.da > 0.0;
+    auto close = [](float want, float got) { return std::abs(want - got) <= 1e-3f * std::abs(want) + 1e-6f; };
+    bool ok = true;
+    for (int c = 0; c < 3; ++c) {
+        const auto& column = by_a ? table.sigma_a[c] : table.sigma_s[c];
+        const float stored = by_a ? sa[c] : ss[c];
+        const double vc = by_a ? 1.0 - stored * to_paper / (v.optics.ds * v.optics.da)
+                               : (stored * to_paper - v.optics.ks[c]) / v.optics.ds;
+        const int guess = int(std::clamp(std::lround(vc * 256.0), 0L, 255L));
+        int best = guess;
+        for (int l = std::max(0, guess - 4); l <= std::min(255, guess + 4); ++l)
+            if (std::abs(column[l] - stored) < std::abs(column[best] - stored)) best = l;
+        lv[c] = std::uint8_t(best);
+        ok = ok && close(table.sigma_s[c][best], ss[c]) && close(table.sigma_a[c][best], sa[c]);
+    }
+    return ok;
+}
+
+// The levels of z-slices [z0, z1), from the grids clipped to them. False on a
+// voxel whose grids do not follow from the metadata.
+bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, int z1, MaterialVolume& v,
+                     const CoefficientTable& table) {
+    const int s = v.resolution;
+    const double h = v.voxel_size();
+    const auto& m = v.cube.min;
+    // World bounds of the slab's voxel centres; OpenVDB rounds them to these voxels.
+    const openvdb::BBoxd box(openvdb::Vec3d(m[0] + 0.5 * h, m[1] + 0.5 * h, m[2] + (z0 + 0.5) * h),
+                             openvdb::Vec3d(m[0] + (s - 0.5) * h, m[1] + (s - 0.5) * h, m[2] + (z1 - 0.5) * h));
+    openvdb::Vec3fGrid::Ptr gs, ga;
+    try {
+        gs = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file.readGrid("sigma_s", box));
+        ga = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file.readGrid("sigma_a", box));
+    } catch (const openvdb::Exception& e) {
+        fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    }
+    if (!gs || !ga) fail_file(path, "'sigma_s' and 'sigma_a' must be Vec3f grids");
+    std::atomic<bool> ok{true};
+    tbb::parallel_for(z0, z1, [&](int z) {
+        auto acc_s = gs->getConstAccessor();
+        auto acc_a = ga->getConstAccessor();
+        for (int y = 0; y < s; ++y)
+            for (int x = 0; x < s; ++x) {
+                const openvdb::Coord xyz(x, y, z);
+                if (!levels_of_voxel(acc_s.getValue(xyz), acc_a.getValue(xyz), v, table,
+                                     v.levels[v.index(x, y, z)]))
+                    ok = false;
+            }
+    });
+    return ok;
 }
 
 }  // namespace
@@ -160,100 +287,19 @@ MaterialVolume read_material_vdb(const std::string& path) {
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
     }
-    const auto fmt = meta->getMetadata<openvdb::StringMetadata>("jade:format");
-    if (!fmt || fmt->value() != kFormat)
-        fail_file(path, "not a jaderender material volume (no 'jade:format' metadata)");
-    if (required_meta<openvdb::Int32>(*meta, path, "jade:format_version") > kFormatVersion)
-        fail_file(path, "written by a newer jaderender (format version too high)");
-
-    MaterialVolume v;
-    v.resolution = required_meta<openvdb::Int32>(*meta, path, "jade:resolution");
-    v.photo = required_meta<std::string>(*meta, path, "jade:photo");
-    v.noise.resolution = v.resolution;
-    v.noise.octaves = required_meta<openvdb::Int32>(*meta, path, "jade:octaves");
-    v.noise.k = required_meta<double>(*meta, path, "jade:k");
-    v.noise.seed = std::uint32_t(required_meta<openvdb::Int64>(*meta, path, "jade:seed"));
-    v.match = parse_match_mode(required_meta<std::string>(*meta, path, "jade:match"));
-    v.optics.ds = required_meta<double>(*meta, path, "jade:ds");
-    v.optics.da = required_meta<double>(*meta, path, "jade:da");
-    const auto ks = required_meta<openvdb::Vec3d>(*meta, path, "jade:ks");
-    v.optics.ks = {ks[0], ks[1], ks[2]};
-    v.optics.density_scale = required_meta<double>(*meta, path, "jade:density_scale");
-    const auto cmin = required_meta<openvdb::Vec3d>(*meta, path, "jade:cube_min");
-    v.cube.min = {cmin[0], cmin[1], cmin[2]};
-    v.cube.side = required_meta<double>(*meta, path, "jade:cube_side");
-    // Files from before the exposure was stored have none: 0, never fitted.
-    if (const auto e = meta->getMetadata<openvdb::DoubleMetadata>("jade:exposure")) v.exposure = e->value();
-    if (!(v.exposure >= 0.0) || !std::isfinite(v.exposure))
-        fail_file(path, "metadata 'jade:exposure' must be a finite number >= 0");
-    if (v.resolution < 1 || v.resolution > 4096 || !(v.cube.side > 0))
-        fail_file(path, "metadata gives an impossible resolution or cube side");
-    try {
-        v.optics.validate();
-    } catch (const Error& e) {
-        fail_file(path, std::string("metadata: ") + e.what());
-    }
-
+    MaterialVolume v = material_from_metadata(*meta, path);
     const int s = v.resolution;
     v.levels.assign(std::size_t(s) * s * s, Rgb8{0, 0, 0});
     const CoefficientTable table(v.optics, v.cube.side);
-    const double to_paper = v.cube.side / v.optics.density_scale;
-    const double h = v.cube.side / s;
-    std::atomic<bool> mismatch{false};
-
-    // The grids are read a slab of z-slices at a time (OpenVDB skips the
-    // leaves outside a clipping box), so reading costs a slab's worth of
-    // float grids beside the 3-byte levels instead of two whole Vec3f grids.
+    // A slab of z-slices at a time (OpenVDB skips the leaves outside a
+    // clipping box): reading costs a slab's worth of float grids beside the
+    // 3-byte levels instead of two whole Vec3f grids.
     constexpr int kSlab = 32;
-    for (int z0 = 0; z0 < s; z0 += kSlab) {
-        const int z1 = std::min(s, z0 + kSlab);
-        // World bounds of the slab's voxel centres; OpenVDB rounds them to these voxels.
-        const openvdb::BBoxd box(
-            openvdb::Vec3d(cmin[0] + 0.5 * h, cmin[1] + 0.5 * h, cmin[2] + (z0 + 0.5) * h),
-            openvdb::Vec3d(cmin[0] + (s - 0.5) * h, cmin[1] + (s - 0.5) * h, cmin[2] + (z1 - 0.5) * h));
-        openvdb::Vec3fGrid::Ptr gs, ga;
-        try {
-            gs = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file->readGrid("sigma_s", box));
-            ga = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file->readGrid("sigma_a", box));
-        } catch (const openvdb::Exception& e) {
-            fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
-        }
-        if (!gs || !ga) fail_file(path, "'sigma_s' and 'sigma_a' must be Vec3f grids");
-        tbb::parallel_for(z0, z1, [&](int z) {
-            auto acc_s = gs->getConstAccessor();
-            auto acc_a = ga->getConstAccessor();
-            for (int y = 0; y < s; ++y)
-                for (int x = 0; x < s; ++x) {
-                    const openvdb::Coord xyz(x, y, z);
-                    const openvdb::Vec3f ss = acc_s.getValue(xyz), sa = acc_a.getValue(xyz);
-                    Rgb8& lv = v.levels[v.index(x, y, z)];
-                    for (int c = 0; c < 3; ++c) {
-                        // The level whose coefficient is nearest the stored one,
-                        // searched around the formula's inverse. sigma_a = (1 - v_c) d_s d_a
-                        // is never clamped; without absorption, sigma_s = v_c d_s + k_s.
-                        const bool by_a = v.optics.da > 0.0;
-                        const auto& column = by_a ? table.sigma_a[c] : table.sigma_s[c];
-                        const float stored = by_a ? sa[c] : ss[c];
-                        const double vc = by_a ? 1.0 - stored * to_paper / (v.optics.ds * v.optics.da)
-                                               : (stored * to_paper - v.optics.ks[c]) / v.optics.ds;
-                        const int guess = int(std::clamp(std::lround(vc * 256.0), 0L, 255L));
-                        int best = guess;
-                        for (int l = std::max(0, guess - 4); l <= std::min(255, guess + 4); ++l)
-                            if (std::abs(column[l] - stored) < std::abs(column[best] - stored)) best = l;
-                        lv[c] = std::uint8_t(best);
-                        // Both grids must be what this level and the metadata give
-                        // (to half-float precision).
-                        auto close = [](float want, float got) {
-                            return std::abs(want - got) <= 1e-3f * std::abs(want) + 1e-6f;
-                        };
-                        if (!close(table.sigma_s[c][best], ss[c]) || !close(table.sigma_a[c][best], sa[c]))
-                            mismatch = true;
-                    }
-                }
-        });
-    }
+    bool consistent = true;
+    for (int z0 = 0; z0 < s; z0 += kSlab)
+        consistent = read_level_slab(*file, path, z0, std::min(s, z0 + kSlab), v, table) && consistent;
     file->close();
-    if (mismatch)
+    if (!consistent)
         fail_file(path, "its sigma_s/sigma_a grids do not follow from its jade: metadata "
                         "(edited by another tool?)");
     return v;

@@ -1,6 +1,7 @@
 #include "jade/volume/noise.h"
 
 #include "jade/core/error.h"
+#include "jade/core/math.h"
 #include "jade/core/random.h"
 
 #include <tbb/parallel_for.h>
@@ -27,6 +28,16 @@ void NoiseParams::validate() const {
                     std::to_string(octaves));
     if (!(k > 0.0 && k < 1.0))
         throw Error("--k must lie strictly between 0 and 1, got " + std::to_string(k));
+    if (!(frequency >= 0.125 && frequency <= 64.0))
+        throw Error("--frequency must be between 0.125 and 64 cycles per side, got " +
+                    std::to_string(frequency));
+    if (!(stretch >= 1.0 && stretch <= 64.0))
+        throw Error("--stretch must be between 1 and 64, got " + std::to_string(stretch));
+    if (!std::isfinite(angle)) throw Error("--angle must be a finite number of degrees");
+    if (!(bands >= 0.0 && bands <= 256.0))
+        throw Error("--bands must be between 0 (none) and 256 per side, got " + std::to_string(bands));
+    if (!(warp >= 0.0 && warp <= 256.0))
+        throw Error("--warp must be between 0 and 256 cube sides, got " + std::to_string(warp));
 }
 
 namespace {
@@ -103,32 +114,47 @@ double SimplexNoise::operator()(double x, double y, double z) const {
 }
 
 Fbm::Fbm(const NoiseParams& params)
-    : simplex_(params.seed), resolution_(params.resolution), octaves_(params.octave_count()),
+    : simplex_(params.seed), octaves_(params.octave_count()),
       k_(params.k) {
     params.validate();
+    base_frequency_ = params.frequency / params.resolution;
+    // At angle 0 and stretch 1 the transform below is exact (cos 0 = 1,
+    // sin 0 = 0): the paper's fBm, value for value.
+    along_x_ = std::cos(radians(params.angle));
+    along_y_ = std::sin(radians(params.angle));
+    inv_stretch_ = 1.0 / params.stretch;
+    bands_per_voxel_ = params.bands / params.resolution;
+    warp_ = params.warp * params.resolution / amplitude_sum();
     offset_.resize(3 * std::size_t(octaves_));
     for (std::size_t i = 0; i < offset_.size(); ++i)
         offset_[i] = 256.0 * to_unit_double(splitmix64((std::uint64_t(params.seed) << 32) ^ i));
 }
 
-double Fbm::frequency(int i) const { return std::ldexp(1.0 / resolution_, i); }
+double Fbm::frequency(int i) const { return std::ldexp(base_frequency_, i); }
 
 double Fbm::amplitude(int i) const { return std::pow(k_, i + 1); }
 
-double Fbm::bound() const {
+double Fbm::bound() const { return bands_per_voxel_ > 0.0 ? 1.0 : amplitude_sum(); }
+
+double Fbm::amplitude_sum() const {
     double sum = 0.0;
     for (int i = 0; i < octaves_; ++i) sum += amplitude(i);
     return sum;
 }
 
-double Fbm::operator()(double x, double y, double z) const {
-    double sum = 0.0, fr = 1.0 / resolution_, amp = k_;
+double Fbm::operator()(double px, double py, double pz) const {
+    // Into the frame of the structure: u along the bands (stretched), w across.
+    const double x = (along_x_ * px + along_y_ * py) * inv_stretch_;
+    const double y = -along_y_ * px + along_x_ * py;
+    const double z = pz * inv_stretch_;
+    double sum = 0.0, fr = base_frequency_, amp = k_;
     for (int i = 0; i < octaves_; ++i) {
         const double* o = &offset_[3 * std::size_t(i)];
         sum += amp * simplex_(x * fr + o[0], y * fr + o[1], z * fr + o[2]);
         fr *= 2.0;
         amp *= k_;
     }
+    if (bands_per_voxel_ > 0.0) return std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum));
     return sum;
 }
 

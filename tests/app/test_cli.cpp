@@ -61,7 +61,7 @@ void require_clean_failure(const TempDir& dir, const std::string& args, const st
 
 }  // namespace
 
-TEST_CASE("volume: the demo photo gives a .vdb and a one-line summary", "[cli]") {
+TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a summary line", "[cli]") {
     TempDir dir;
     const Result r = run(dir, "volume --photo " JADE_DATA_DIR
                               "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
@@ -70,16 +70,26 @@ TEST_CASE("volume: the demo photo gives a .vdb and a one-line summary", "[cli]")
     REQUIRE(r.code == 0);
     CHECK(std::filesystem::file_size(dir.file("out.vdb")) > 32u * 32u * 32u);
     CHECK(std::filesystem::exists(dir.file("slice.png")));
-    CHECK(lines(r.out) == 1);
+    // The structure estimate's line, then the summary.
+    CHECK(lines(r.out) == 2);
+    CHECK_THAT(r.out, Catch::Contains("structure from the photo") && Catch::Contains("the paper's fBm"));
     CHECK_THAT(r.out, Catch::Contains("32^3") && Catch::Contains("MB"));
     CHECK(dir.entries() == 2);
+
+    const Result fbm = run(dir, "volume --structure fbm --photo " JADE_DATA_DIR
+                                "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
+                                    dir.file("fbm.vdb"));
+    REQUIRE(fbm.code == 0);
+    CHECK(lines(fbm.out) == 1);
+    CHECK_THAT(fbm.out, Catch::Contains("structure fbm: frequency 1.00, k 0.50, stretch 1.00"));
 }
 
 TEST_CASE("--help documents the flags and exits 0", "[cli]") {
     TempDir dir;
     const Result r = run(dir, "volume --help");
     CHECK(r.code == 0);
-    for (const char* flag : {"--photo", "--mask", "--resolution", "--octaves", "--k", "--seed",
+    for (const char* flag : {"--photo", "--mask", "--resolution", "--structure", "--octaves", "--k",
+                             "--frequency", "--stretch", "--angle", "--bands", "--warp", "--seed",
                              "--match", "--ds", "--da", "--out"})
         CHECK_THAT(r.out, Catch::Contains(flag));
 }

@@ -20,7 +20,8 @@ struct PipelineOptions {
     std::string out_dir;              // "" = "<photo name>-jaderender" in the current folder
     std::string volume;               // a jaderender .vdb to fit instead of building one from the
                                       // photo (its d_s, d_a, density scale and noise are kept)
-    NoiseParams noise;
+    NoiseParams noise;                // the paper's fBm, or the resolution and seed for an estimate
+    StructureMode structure = StructureMode::Photo;
     MatchMode match = MatchMode::Joint;
     OpticalParams optics;             // for a volume built from the photo
     FitOptions fit;
@@ -31,10 +32,12 @@ struct PipelineOptions {
 struct PipelineResult {
     std::string out_dir;
     FitOutcome fit;
+    StructureEstimate structure;      // when the structure was estimated from the photo
+    bool structure_estimated = false;
     RenderResult final_render;
     std::vector<std::string> warnings;
     std::vector<std::string> written;
-    double seconds_photo = 0, seconds_volume = 0, seconds_fit = 0, seconds_render = 0,
+    double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_render = 0,
            seconds_write = 0, seconds_total = 0;
 };
 

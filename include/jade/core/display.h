@@ -19,6 +19,10 @@ std::uint8_t display_level(double linear);
 // An already-encoded value in [0, 1] (an 8-bit or 16-bit file's) → level.
 std::uint8_t level_of_encoded(double encoded);
 
+// The brightness of a displayed colour, for measures of structure: Rec. 709
+// weights applied to the display levels (luma, not linear luminance).
+inline double luma(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+
 // A render pixel shows the object when at least half of its camera rays met
 // it: the fit's histograms, compare.png and the error estimate all use this.
 constexpr float kObjectCoverage = 0.5f;

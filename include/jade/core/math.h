@@ -9,5 +9,9 @@ constexpr float kPi = 3.14159265358979323846f;
 // caller rounds the same way.
 constexpr float radians(float degrees) { return degrees * kPi / 180.f; }
 constexpr float degrees(float radians) { return radians * 180.f / kPi; }
+// Double precision, for analysis (spectra, fits) rather than transport.
+constexpr double kPiD = 3.14159265358979323846;
+constexpr double radians(double degrees) { return degrees * kPiD / 180.0; }
+constexpr double degrees(double radians) { return radians * 180.0 / kPiD; }
 
 }  // namespace jade

@@ -10,6 +10,12 @@ namespace jade {
 
 using Spectrum = glm::vec3;
 
+// The channels' names, for messages and reports.
+inline const char* channel_name(int c) {
+    static const char* const names[3] = {"red", "green", "blue"};
+    return names[c];
+}
+
 inline float average(const Spectrum& s) { return (s.x + s.y + s.z) * (1.f / 3.f); }
 inline float max_component(const Spectrum& s) { return std::max(s.x, std::max(s.y, s.z)); }
 inline bool is_finite(const Spectrum& s) {

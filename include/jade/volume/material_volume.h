@@ -16,6 +16,7 @@
 #include "jade/volume/color_match.h"
 #include "jade/volume/noise.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/structure_estimate.h"
 
 #include <array>
 #include <string>
@@ -39,6 +40,7 @@ struct MaterialVolume {
     int resolution = 0;          // s
     std::vector<Rgb8> levels;    // s^3, index (z * s + y) * s + x; slice z is the z-th image
     NoiseParams noise;
+    StructureMode structure = StructureMode::Fbm;  // how `noise` was chosen
     MatchMode match = MatchMode::Joint;
     OpticalParams optics;
     Cube cube;

@@ -6,6 +6,16 @@
 //   Noise(x) = sum_{i=0}^{n-1} SimplexNoise(x * Fr_i) * Amp_i
 //   Fr_0 = 1/s, Fr_{i+1} = 2 Fr_i,  Amp_0 = k, Amp_{i+1} = k Amp_i,  n = log2(s)
 //
+// Beyond the paper (docs/design.md, "Structure"): the base frequency may be
+// f_0 cycles per side instead of one (Fr_0 = f_0/s), and the noise may be
+// stretched by a factor r along a direction at `angle` in the slice plane and
+// along z, so that slices show bands running at that angle and the solid is
+// made of sheets, as layered stone is. f_0 = 1, r = 1 is the paper's fBm.
+// With b > 0 bands the value is instead Perlin's marble (SIGGRAPH 1985),
+// sin 2π b(w/s + a·Noise/bound): b layers per side across the angle,
+// displaced by the fBm by up to a cube sides, so that slices show thin,
+// sharp, continuous veins that wander as the fBm does.
+//
 // x is in voxel units, sampled at voxel centres (i + 1/2). Everything is a
 // pure function of (parameters, position): a slice, a voxel or the whole cube
 // comes out identical whatever order or thread computes it.
@@ -20,6 +30,11 @@ struct NoiseParams {
     int octaves = 0;       // n; 0 = the paper's floor(log2(s))
     double k = 0.5;        // amplitude ratio, 0 < k < 1
     std::uint32_t seed = 1;
+    double frequency = 1.0;  // f_0, cycles per cube side of the first octave
+    double stretch = 1.0;    // r >= 1, elongation along `angle` and z
+    double angle = 0.0;      // degrees counterclockwise from +x toward +y (as seen from +z)
+    double bands = 0.0;      // b, layers per cube side across `angle`; 0 = plain fBm
+    double warp = 0.1;       // a, how far (cube sides) the fBm displaces the layers
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;
@@ -50,14 +65,18 @@ public:
     double frequency(int i) const;
     double amplitude(int i) const;
     int octaves() const { return octaves_; }
-    // Sum of the amplitudes: |Noise| never exceeds it.
+    // |Noise| never exceeds it: the sum of the amplitudes (1 with bands).
     double bound() const;
 
 private:
+    double amplitude_sum() const;
     SimplexNoise simplex_;
-    int resolution_;
     int octaves_;
     double k_;
+    double base_frequency_;        // Fr_0, cycles per voxel
+    double along_x_, along_y_;     // unit direction the structure is stretched along
+    double inv_stretch_;
+    double bands_per_voxel_, warp_;
     // Each octave is shifted by its own seed-derived offset. Fr_i = 2^i / s puts
     // every octave's lattice points on the same voxel positions (the cube's
     // corner is a zero of every octave); the shifts decorrelate them.

@@ -1,0 +1,62 @@
+#pragma once
+// A noise structure estimated from the photo (docs/design.md, "Structure"):
+// the fBm's base frequency, amplitude ratio, stretch and angle chosen so that
+// a slice of the volume has the photo's spectrum, at the photo's scale and in
+// its direction. Analysis by synthesis: candidate slices are generated,
+// histogram-matched to the photo's luma as the volume's slices will be, and
+// compared with the photo by their spectra (texture_spectrum.h).
+
+#include "jade/volume/noise.h"
+#include "jade/volume/photo.h"
+#include "jade/volume/texture_spectrum.h"
+
+#include <string>
+
+namespace jade {
+
+// How the noise's structure is chosen: the paper's fixed fBm (§4.1), or
+// estimated from the photo.
+enum class StructureMode { Fbm, Photo };
+StructureMode parse_structure_mode(const std::string& s);  // "fbm" | "photo"; throws jade::Error
+const char* to_string(StructureMode m);
+
+// The photo's luma as a texture (its foreground as the mask), and how many of
+// its pixels span the cube side: the larger side of the foreground's bounding
+// box (a slab photo spans the side it shows).
+GrayImage photo_luma(const Photo& photo);
+double photo_pixels_per_side(const Photo& photo);
+
+// Slice z of the noise, as seen from +z (row 0 at the top, the largest y),
+// with its values replaced by the photo's luma of the same rank: what a slice
+// of the colour-matched volume shows.
+GrayImage matched_noise_slice(const NoiseParams& noise, int z, const std::vector<float>& sorted_luma);
+
+// The mean structure distance between slices of this noise, matched to the
+// photo, and the photo; and the mean orientation strength of those slices.
+struct StructureFit {
+    NoiseParams noise;
+    double distance = 0.0;
+    double strength = 0.0;
+    double orientation = 0.0;
+    double coherence = 0.0;
+};
+StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo);
+
+struct StructureEstimate {
+    StructureFit chosen;   // the estimated parameters
+    StructureFit paper;    // the paper's fBm (f_0 = 1, r = 1, no bands, same k and seed), for comparison
+    TextureSpectrum photo;
+    double seconds = 0.0;
+};
+// Searches f_0, k, r, the bands b and their warp a (coordinate descent over fixed grids, from the
+// paper's values) with the angle taken from the photo's orientation. `base`
+// gives the resolution, octaves and seed.
+StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base);
+
+// The noise a volume is built with: `given` itself for the paper's fBm, or
+// its resolution, octaves and seed with the structure estimated from the
+// photo. The estimate (when made) is left in `estimate`.
+NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode,
+                         StructureEstimate* estimate = nullptr);
+
+}  // namespace jade

@@ -1,0 +1,68 @@
+#pragma once
+// The spatial structure of a texture, the part of "looking like the photo"
+// that histograms do not see (docs/design.md, "Structure"): how its variance
+// is spread over spatial frequencies (the radially averaged power spectrum),
+// and whether it runs along one direction (bands, veins).
+//
+// Frequencies are in cycles per cube side, the length a volume slice spans,
+// so a photo (which spans the side), a volume slice and a render (whose pixel
+// footprint is known) are compared at the same physical scale. Bands are
+// half an octave wide, from 1 to 1024 cycles per side.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace jade {
+
+// One channel of an image and which pixels belong to the texture; row 0 is
+// the top row as displayed.
+struct GrayImage {
+    int width = 0, height = 0;
+    std::vector<float> values;          // row-major
+    std::vector<std::uint8_t> mask;     // 1 = part of the texture; empty = all pixels
+    bool inside(int x, int y) const { return mask.empty() || mask[std::size_t(y) * width + x]; }
+};
+
+// The largest axis-aligned square of texture pixels: {x0, y0, side}; side 0
+// when there is none. The spectrum is measured there, so that the edges of an
+// object's silhouette do not count as structure.
+std::array<int, 3> largest_inside_square(const GrayImage& image);
+
+struct TextureSpectrum {
+    static constexpr int kBands = 20;
+    // Lower edge of band b: 2^(b/2) cycles per side.
+    static double band_low(int b);
+    // Share of the measured variance per band; < 0 where the image cannot
+    // measure the band (below 2 cycles across the square, above Nyquist).
+    std::array<double, kBands> power{};
+    // The direction the structure runs along, degrees counterclockwise from
+    // the displayed image's horizontal, in [0, 180); and how strongly, from 0
+    // (isotropic) to 1 (every frequency along one direction).
+    double orientation = 0.0;
+    double strength = 0.0;
+    // Local coherence, 0 to 1: how parallel the image's gradients are within
+    // blocks a 32nd of a side wide (energy-weighted), high for bands and veins
+    // even where they wander, low for grain and blobs.
+    double coherence = 0.0;
+    int square = 0;                     // side of the measured square, pixels
+    int measured_bands() const;
+};
+
+// The spectrum of the largest square of texture pixels, Hann-windowed, mean
+// removed. `pixels_per_side`: image pixels per cube side. `noise_variance`: the
+// per-pixel variance of white noise on the values (a Monte Carlo render's),
+// subtracted from every frequency so that it does not count as structure.
+TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side,
+                                 double noise_variance = 0.0);
+
+// The root mean square difference of two spectra's log10 power shares over
+// the bands both measure, each renormalised to those bands: 0 for the same
+// structure at the same scale, 0.3 for a factor of two per band. Negative
+// when they share fewer than two bands.
+double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b);
+
+// The smaller angle between two orientations (degrees, modulo 180).
+double orientation_difference(double a, double b);
+
+}  // namespace jade

@@ -1,0 +1,187 @@
+#include "jade/volume/structure_estimate.h"
+
+#include "jade/core/display.h"
+#include "jade/core/error.h"
+#include "jade/core/timing.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace jade {
+
+StructureMode parse_structure_mode(const std::string& s) {
+    if (s == "fbm") return StructureMode::Fbm;
+    if (s == "photo") return StructureMode::Photo;
+    throw Error("--structure must be 'photo' or 'fbm', got '" + s + "'");
+}
+
+const char* to_string(StructureMode m) { return m == StructureMode::Fbm ? "fbm" : "photo"; }
+
+GrayImage photo_luma(const Photo& photo) {
+    GrayImage g;
+    g.width = photo.width;
+    g.height = photo.height;
+    g.values.resize(photo.levels.size());
+    for (std::size_t i = 0; i < photo.levels.size(); ++i)
+        g.values[i] = float(luma(photo.levels[i][0], photo.levels[i][1], photo.levels[i][2]));
+    g.mask = photo.foreground;
+    return g;
+}
+
+double photo_pixels_per_side(const Photo& photo) {
+    int x0 = photo.width, x1 = -1, y0 = photo.height, y1 = -1;
+    for (int y = 0; y < photo.height; ++y)
+        for (int x = 0; x < photo.width; ++x)
+            if (photo.foreground[std::size_t(y) * photo.width + x]) {
+                x0 = std::min(x0, x), x1 = std::max(x1, x);
+                y0 = std::min(y0, y), y1 = std::max(y1, y);
+            }
+    return x1 < 0 ? double(photo.width) : double(std::max(x1 - x0 + 1, y1 - y0 + 1));
+}
+
+GrayImage matched_noise_slice(const NoiseParams& noise, int z, const std::vector<float>& sorted_luma) {
+    const int s = noise.resolution;
+    std::vector<float> values(std::size_t(s) * s);
+    fbm_slice(Fbm(noise), s, z, values.data());
+    // Rank matching: the i-th smallest noise value takes the photo's luma of
+    // the same quantile, as colour matching does (§4.2).
+    std::vector<std::uint32_t> order(values.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return values[a] < values[b]; });
+    GrayImage g;
+    g.width = g.height = s;
+    g.values.resize(values.size());
+    const double scale = double(sorted_luma.size()) / double(values.size());
+    for (std::size_t r = 0; r < order.size(); ++r) {
+        const std::uint32_t i = order[r];
+        const int x = int(i % s), y = int(i / s);
+        // Seen from +z with y up: row 0 shows the largest y.
+        g.values[std::size_t(s - 1 - y) * s + x] = sorted_luma[std::size_t((r + 0.5) * scale)];
+    }
+    return g;
+}
+
+namespace {
+
+// Candidate slices are generated at this resolution at most: the spectrum
+// bands beyond its Nyquist frequency (128 cycles per side) are fine grain
+// that multiple scattering averages away in a render.
+constexpr int kEstimateResolution = 256;
+
+struct PhotoTexture {
+    TextureSpectrum spectrum;
+    std::vector<float> sorted_luma;
+};
+
+PhotoTexture photo_texture(const Photo& photo) {
+    const GrayImage g = photo_luma(photo);
+    PhotoTexture t{texture_spectrum(g, photo_pixels_per_side(photo)), {}};
+    for (std::size_t i = 0; i < g.values.size(); ++i)
+        if (g.inside(int(i % g.width), int(i / g.width))) t.sorted_luma.push_back(g.values[i]);
+    std::sort(t.sorted_luma.begin(), t.sorted_luma.end());
+    return t;
+}
+
+// Two slices a quarter and three quarters deep, so that one slice's chance
+// pattern does not decide.
+StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
+    NoiseParams at = noise;
+    at.resolution = std::min(noise.resolution, kEstimateResolution);
+    StructureFit fit{noise, 0.0, 0.0, 0.0};
+    for (int z : {at.resolution / 4, 3 * at.resolution / 4}) {
+        const TextureSpectrum sp =
+            texture_spectrum(matched_noise_slice(at, z, photo.sorted_luma), double(at.resolution));
+        fit.distance += 0.5 * structure_distance(sp, photo.spectrum);
+        fit.strength += 0.5 * sp.strength;
+        fit.coherence += 0.5 * sp.coherence;
+        fit.orientation = sp.orientation;
+    }
+    return fit;
+}
+
+// What the search minimises: the spectra's distance, and the differences in
+// how strongly oriented the two are, globally and locally (the radial
+// spectrum sees neither: a vein and grain of the same scale have one spectrum).
+double objective(const StructureFit& f, const TextureSpectrum& photo) {
+    return f.distance + std::abs(f.strength - photo.strength) + std::abs(f.coherence - photo.coherence);
+}
+
+// Coordinate descent from `start`: each parameter over its grid, the others
+// held, until a round changes nothing. One parameter's candidates run in
+// parallel.
+StructureFit descend(const NoiseParams& start, const PhotoTexture& texture) {
+    static const std::vector<double> frequencies{0.5, 0.71, 1, 1.41, 2, 2.83, 4, 5.66, 8};
+    static const std::vector<double> ratios{0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85};
+    static const std::vector<double> stretches{1, 1.41, 2, 2.83, 4, 5.66, 8, 11.3, 16};
+    static const std::vector<double> bands{0, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24};
+    static const std::vector<double> warps{0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1, 1.4, 2, 2.8, 4};
+    StructureFit best = evaluate(start, texture);
+    auto sweep = [&](const std::vector<double>& grid, double NoiseParams::*field) {
+        std::vector<StructureFit> fits(grid.size());
+        tbb::parallel_for(std::size_t(0), grid.size(), [&](std::size_t i) {
+            NoiseParams p = best.noise;
+            p.*field = grid[i];
+            fits[i] = evaluate(p, texture);
+        });
+        bool changed = false;
+        for (const StructureFit& f : fits)
+            if (objective(f, texture.spectrum) < objective(best, texture.spectrum) - 1e-9) {
+                best = f;
+                changed = true;
+            }
+        return changed;
+    };
+    for (int round = 0; round < 4; ++round) {
+        bool changed = sweep(frequencies, &NoiseParams::frequency);
+        changed = sweep(ratios, &NoiseParams::k) || changed;
+        changed = sweep(stretches, &NoiseParams::stretch) || changed;
+        changed = sweep(bands, &NoiseParams::bands) || changed;
+        if (best.noise.bands > 0.0) changed = sweep(warps, &NoiseParams::warp) || changed;
+        if (!changed) break;
+    }
+    return best;
+}
+
+}  // namespace
+
+StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo) {
+    return evaluate(noise, photo_texture(photo));
+}
+
+StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base) {
+    const Stopwatch clock;
+    const PhotoTexture texture = photo_texture(photo);
+    StructureEstimate out;
+    out.photo = texture.spectrum;
+    NoiseParams paper = base;
+    paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0;
+    out.paper = evaluate(paper, texture);
+
+    // Two starts, the paper's fBm and a marble, because the two families'
+    // optima are far apart and coordinate descent would not cross between them.
+    NoiseParams marble = paper;
+    marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
+    StructureFit best_fit = out.paper;
+    for (NoiseParams start : {paper, marble}) {
+        start.angle = texture.spectrum.orientation;
+        const StructureFit fit = descend(start, texture);
+        if (objective(fit, texture.spectrum) < objective(best_fit, texture.spectrum)) best_fit = fit;
+    }
+    out.chosen = best_fit;
+    out.seconds = clock.seconds();
+    return out;
+}
+
+NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode,
+                         StructureEstimate* estimate) {
+    given.validate();
+    if (mode == StructureMode::Fbm) return given;
+    StructureEstimate e = estimate_structure(photo, given);
+    if (estimate) *estimate = e;
+    return e.chosen.noise;
+}
+
+}  // namespace jade

@@ -1,0 +1,77 @@
+// The structure estimate recovers the parameters of noise it did not see:
+// a "photo" made from a slice of known noise (another seed) is analysed, and
+// the estimate must land on the generating parameters' grid neighbourhood.
+
+#include "jade/volume/structure_estimate.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace jade;
+
+namespace {
+
+// A grey photo showing slice z of `noise`, matched to a ramp of levels.
+Photo photo_of(const NoiseParams& noise) {
+    std::vector<float> ramp;
+    for (int i = 0; i < noise.resolution * noise.resolution; ++i)
+        ramp.push_back(40.f + 180.f * float(i) / float(noise.resolution * noise.resolution));
+    const GrayImage g = matched_noise_slice(noise, noise.resolution / 2, ramp);
+    Photo p;
+    p.width = g.width;
+    p.height = g.height;
+    for (float v : g.values) {
+        const auto l = std::uint8_t(std::lround(v));
+        p.levels.push_back({l, l, l});
+    }
+    p.foreground.assign(p.levels.size(), 1);
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("structure estimate: an oriented fBm's frequency, stretch and angle are recovered", "[structure]") {
+    NoiseParams truth;
+    truth.resolution = 128;
+    truth.seed = 7;
+    truth.frequency = 4.0;
+    truth.k = 0.5;
+    truth.stretch = 4.0;
+    truth.angle = 30.0;
+    NoiseParams base;
+    base.resolution = 128;
+    base.seed = 1;  // the estimate never sees the photo's noise
+    const StructureEstimate e = estimate_structure(photo_of(truth), base);
+    const NoiseParams& got = e.chosen.noise;
+    CAPTURE(got.frequency, got.k, got.stretch, got.angle, got.bands, e.chosen.distance, e.paper.distance);
+    REQUIRE(got.bands == 0.0);
+    REQUIRE(std::abs(got.angle - truth.angle) < 8.0);
+    REQUIRE(got.stretch >= truth.stretch / 2.0);
+    REQUIRE(got.stretch <= truth.stretch * 2.0);
+    REQUIRE(got.frequency >= truth.frequency / 2.0);
+    REQUIRE(got.frequency <= truth.frequency * 2.0);
+    // And the estimate is much nearer the photo than the paper's fBm.
+    REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
+}
+
+TEST_CASE("structure estimate: marble bands are told from grain", "[structure]") {
+    NoiseParams truth;
+    truth.resolution = 128;
+    truth.seed = 3;
+    truth.bands = 12.0;
+    truth.warp = 0.5;
+    truth.frequency = 2.0;
+    truth.k = 0.45;
+    truth.angle = 100.0;
+    NoiseParams base;
+    base.resolution = 128;
+    const StructureEstimate e = estimate_structure(photo_of(truth), base);
+    const NoiseParams& got = e.chosen.noise;
+    CAPTURE(got.frequency, got.k, got.stretch, got.angle, got.bands, got.warp, e.chosen.distance, e.paper.distance);
+    REQUIRE(got.bands >= 6.0);
+    REQUIRE(got.bands <= 24.0);
+    REQUIRE(std::abs(got.angle - truth.angle) < 10.0);
+    REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
+}
