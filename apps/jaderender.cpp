@@ -390,6 +390,12 @@ int run_pipeline(PipelineFlags& p) {
     const jade::PassRecord& last = r.final_render.passes.back();
     std::printf("final render: %d spp in %.1f s, estimated relative error %.4f\n", last.spp,
                 r.final_render.seconds, last.estimated_error);
+    const jade::Appearance& look = r.final_look;
+    std::printf("final render against the photo: A (%.1f, %.1f, %.1f) / (%.1f, %.1f, %.1f), S (%.1f, %.1f, %.1f) / "
+                "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f\n",
+                look.a_render[0], look.a_render[1], look.a_render[2], look.a_photo[0], look.a_photo[1], look.a_photo[2],
+                look.s_render[0], look.s_render[1], look.s_render[2], look.s_photo[0], look.s_photo[1],
+                look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure);
     if (r.structure_estimated)
         std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
                     "bands %.1f, warp %.2f; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",

@@ -109,8 +109,10 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     write_text(out("fit.csv"), fit_csv(res.fit.records));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);
     const DisplayStatistics final_stats = display_statistics(res.final_render.film, exposure);
-    const RgbImage8 cmp = compare_image(photo, res.final_render.film, exposure,
-                                        RgbHistogram::of(photo.foreground_levels()), final_stats.histogram);
+    const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
+    res.final_look = compare_appearance(photo_histogram, photo_spectrum(photo), final_stats,
+                                        render_pixels_per_side(prep.camera, volume.cube));
+    const RgbImage8 cmp = compare_image(photo, res.final_render.film, exposure, photo_histogram, final_stats.histogram);
     write_image_u8(out("compare.png"), cmp.width, cmp.height, 3, cmp.pixels);
     for (const char* name : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "compare.png"})
         res.written.push_back(out(name));

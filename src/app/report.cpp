@@ -23,19 +23,21 @@ std::string channel_status(const FitOutcome& fit, int c) {
 std::string fit_csv(const std::vector<FitRecord>& rows) {
     std::string s = "iteration,seconds,spp";
     const char* ch[3] = {"r", "g", "b"};
-    for (const char* name : {"ks", "A_photo", "A_render", "A_sigma", "dA", "D"})
+    for (const char* name : {"ks", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += "\n";
+    s += ",structure\n";
     char buf[64];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
         s += buf;
-        for (const auto* arr : {&r.ks, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance})
+        for (const auto* arr : {&r.ks, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance, &r.s_photo,
+                                &r.s_render})
             for (double v : *arr) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        s += "\n";
+        std::snprintf(buf, sizeof buf, ",%.6g\n", r.structure);
+        s += buf;
     }
     return s;
 }
@@ -105,6 +107,16 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"stopped_by", res.final_render.stopped_by},
                          {"capped_paths", res.final_render.counters.capped_paths},
                          {"A_render", in.final_stats.a}};
+    // What a person compares (fit/appearance.h): per channel A, S and D, and
+    // the structure of the render's object pixels against the photo's.
+    const Appearance& look = res.final_look;
+    j["appearance"] = {{"A_photo", look.a_photo}, {"A_render", look.a_render}, {"S_photo", look.s_photo},
+                       {"S_render", look.s_render}, {"D", look.d}, {"structure_distance", look.structure},
+                       {"photo_orientation", look.photo.orientation}, {"photo_strength", look.photo.strength},
+                       {"photo_coherence", look.photo.coherence},
+                       {"render_orientation", look.render.orientation},
+                       {"render_strength", look.render.strength}, {"render_coherence", look.render.coherence},
+                       {"render_square_pixels", look.render.square}};
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
     j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},

@@ -14,6 +14,11 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
     DisplayStatistics s;
     std::vector<Rgb8> colours;
     std::array<double, 3> var_sum{}, bias_sum{};
+    s.luma.width = film.width();
+    s.luma.height = film.height();
+    s.luma.values.assign(std::size_t(film.width()) * film.height(), 0.f);
+    s.luma.mask.assign(s.luma.values.size(), 0);
+    double luma_var_sum = 0.0;
     for (int y = 0; y < film.height(); ++y)
         for (int x = 0; x < film.width(); ++x) {
             const float cov = film.coverage(x, y);
@@ -23,6 +28,7 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
             const Spectrum m = film.mean(x, y) * (exposure / cov);
             const Spectrum v = film.variance_of_mean(x, y);
             Rgb8 level;
+            std::array<double, 3> level_sigma{};
             for (int c = 0; c < 3; ++c) {
                 const double lin = std::clamp(double(m[c]), 0.0, 1.0);
                 level[c] = display_level(lin);
@@ -37,6 +43,7 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
                     const double slope = 255.0 * (srgb_encode(hi) - srgb_encode(lo)) / (hi - lo);
                     const double g = slope * exposure / cov;
                     var_sum[c] += g * g * v[c];
+                    level_sigma[c] = g * std::sqrt(double(v[c]));
                     if (lin - h > 0.0031308 && lin + h < 1.0) {
                         const double curv = 255.0 * (srgb_encode(lin + h) - 2 * srgb_encode(lin) + srgb_encode(lin - h)) / (h * h);
                         bias_sum[c] += 0.5 * curv * (exposure / cov) * (exposure / cov) * v[c];
@@ -44,13 +51,21 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
                 }
             }
             colours.push_back(level);
+            const std::size_t i = std::size_t(y) * film.width() + x;
+            s.luma.values[i] = float(luma(level[0], level[1], level[2]));
+            s.luma.mask[i] = 1;
+            const double luma_sigma = luma(level_sigma[0], level_sigma[1], level_sigma[2]);
+            luma_var_sum += luma_sigma * luma_sigma;
         }
     s.pixels = colours.size();
     s.histogram = RgbHistogram::of(colours);
     for (int c = 0; c < 3; ++c) {
         s.a[c] = s.pixels ? s.histogram.mean(c) - bias_sum[c] / double(s.pixels) : 0.0;
         s.a_sigma[c] = s.pixels ? std::sqrt(var_sum[c]) / double(s.pixels) : 0.0;
+        const double spread = s.histogram.spread(c);
+        s.s[c] = s.pixels ? std::sqrt(std::max(0.0, spread * spread - var_sum[c] / double(s.pixels))) : 0.0;
     }
+    s.luma_noise_variance = s.pixels ? luma_var_sum / double(s.pixels) : 0.0;
     return s;
 }
 

@@ -45,12 +45,21 @@ void FitOptions::validate() const {
     if (width < 0 || spp < 0) throw Error("--fit-width and --fit-spp must not be negative");
 }
 
+namespace {
+
+int fitting_width(const CameraParams& camera, const FitOptions& options) {
+    return options.width > 0 ? options.width : std::max(32, camera.width / 4);
+}
+
+}  // namespace
+
 FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
                        const RenderSettings& settings, const Photo& photo, const FitOptions& options)
     : volume_(volume), scene_(scene), photo_(photo), options_(options),
       limits_(limits_for(volume, options.k_max)),
-      camera_(at_width(camera, options.width > 0 ? options.width : std::max(32, camera.width / 4))),
-      settings_(settings), photo_histogram_(RgbHistogram::of(photo.foreground_levels())) {
+      camera_(at_width(camera, fitting_width(camera, options))), settings_(settings),
+      photo_histogram_(RgbHistogram::of(photo.foreground_levels())), photo_spectrum_(photo_spectrum(photo)),
+      pixels_per_side_(render_pixels_per_side(at_width(camera, fitting_width(camera, options)), volume.cube)) {
     options_.validate();
     settings_.time_limit = 0;
     settings_.target_error = 0;
@@ -107,6 +116,7 @@ RenderResult FitSession::fitting_render(const std::array<double, 3>& ks) {
 // A row of fit.csv for a render at ks; returns ΔA per channel.
 std::array<double, 3> FitSession::record(const std::array<double, 3>& ks, const Film& film) {
     const DisplayStatistics st = display_statistics(film, outcome_.exposure);
+    const Appearance look = compare_appearance(photo_histogram_, photo_spectrum_, st, pixels_per_side_);
     FitRecord rec;
     rec.iteration = int(outcome_.records.size());
     rec.seconds = clock_.seconds();
@@ -117,8 +127,11 @@ std::array<double, 3> FitSession::record(const std::array<double, 3>& ks, const 
         rec.a_render[c] = st.a[c];
         rec.a_sigma[c] = st.a_sigma[c];
         rec.delta[c] = st.a[c] - photo_histogram_.mean(c);
-        rec.distance[c] = histogram_distance(st.histogram, photo_histogram_, c);
+        rec.distance[c] = look.d[c];
+        rec.s_photo[c] = look.s_photo[c];
+        rec.s_render[c] = look.s_render[c];
     }
+    rec.structure = look.structure;
     outcome_.records.push_back(rec);
     return rec.delta;
 }

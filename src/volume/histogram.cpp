@@ -37,6 +37,14 @@ double RgbHistogram::mean(int channel) const {
     return total ? sum / double(total) : 0.0;
 }
 
+double RgbHistogram::spread(int channel) const {
+    if (!total) return 0.0;
+    const double m = mean(channel);
+    double sum = 0.0;
+    for (int i = 0; i < 256; ++i) sum += (i - m) * (i - m) * double(counts[channel][i]);
+    return std::sqrt(sum / double(total));
+}
+
 int RgbHistogram::quantile(int channel, double u) const {
     const double target = std::floor(u * double(total));
     std::size_t run = 0;

@@ -3,6 +3,7 @@
 // both stop when the target cannot be reached. And the display-space
 // statistics of a film against hand-computed histograms.
 
+#include "jade/fit/appearance.h"
 #include "jade/fit/display.h"
 #include "jade/fit/driver.h"
 #include "jade/core/display.h"
@@ -194,4 +195,38 @@ TEST_CASE("the fitting exposure lies where every channel can reach the photo, an
     const double empty = exposure_in_reach(Film(2, 2), Film(2, 2), photo);
     CHECK(std::isfinite(empty));
     CHECK(empty > 0);
+}
+
+TEST_CASE("S: the spread of the levels less what the pixels' noise adds", "[fitter][appearance]") {
+    // Left half of linear value 0.1, right half 0.4; each pixel the mean of
+    // 4 samples uniform on [0, 2·value]. The converged render's S is half the
+    // distance between the two levels.
+    const int n = 128, spp = 4;
+    Film f(n, n);
+    SplitMix64 rng(5);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const double value = x < n / 2 ? 0.1 : 0.4;
+            for (int s = 0; s < spp; ++s) f.add_sample(x, y, Spectrum(float(2.0 * value * rng.uniform())), true);
+        }
+    const DisplayStatistics st = display_statistics(f, 1.f);
+    const double truth = 0.5 * 255.0 * (srgb_encode(0.4) - srgb_encode(0.1));
+    INFO("S " << st.s[0] << " (histogram " << st.histogram.spread(0) << ") vs " << truth);
+    CHECK(st.histogram.spread(0) > truth + 1.0);               // the raw spread holds the noise
+    CHECK(std::abs(st.s[0] - truth) < 0.02 * truth + 0.3);     // the corrected one does not
+    RgbHistogram two;
+    two.counts[1][10] = two.counts[1][30] = 5;
+    two.total = 10;
+    CHECK(two.spread(1) == Approx(10.0));
+}
+
+TEST_CASE("render pixels per cube side follow the camera's footprint", "[fitter][appearance]") {
+    CameraParams cam;
+    cam.origin = {0.f, 0.f, 2.f};
+    cam.target = {0.f, 0.f, 0.f};
+    cam.fov_degrees = 90.f;
+    cam.width = 100;
+    Cube cube;  // [-0.5, 0.5]^3, centre at the origin: 2 units away
+    // One pixel covers 2·2·tan(45°)/100 = 0.04 units: 25 pixels per side.
+    CHECK(render_pixels_per_side(cam, cube) == Approx(25.0).epsilon(1e-6));
 }

@@ -5,6 +5,7 @@
 // render and the reports, written into one folder.
 
 #include "jade/app/render_job.h"
+#include "jade/fit/appearance.h"
 #include "jade/fit/fit_session.h"
 #include "jade/volume/color_match.h"
 #include "jade/volume/material_volume.h"
@@ -35,6 +36,7 @@ struct PipelineResult {
     StructureEstimate structure;      // when the structure was estimated from the photo
     bool structure_estimated = false;
     RenderResult final_render;
+    Appearance final_look;            // the final render against the photo (fit/appearance.h)
     std::vector<std::string> warnings;
     std::vector<std::string> written;
     double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_render = 0,

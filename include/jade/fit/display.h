@@ -13,6 +13,7 @@
 #include "jade/render/film.h"
 #include "jade/volume/histogram.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/texture_spectrum.h"
 
 #include <array>
 #include <string>
@@ -29,6 +30,16 @@ struct DisplayStatistics {
     // A estimates the converged render's value whatever the sample count.
     std::array<double, 3> a{};
     std::array<double, 3> a_sigma{};  // standard error of A(κ) from the film's per-pixel variance
+    // S(κ): the spread of the levels over the object, less the part the
+    // pixels' noise adds (S² = variance of the levels − mean per-pixel noise
+    // variance), so that it estimates the converged render's spread.
+    std::array<double, 3> s{};
+    // The object's luma in display levels (mask = object pixels), and the
+    // per-pixel noise variance of that luma, for its texture spectrum. The
+    // channels' noise is taken as fully correlated (one path carries all
+    // three), which bounds the luma's noise from above.
+    GrayImage luma;
+    double luma_noise_variance = 0.0;
     std::size_t pixels = 0;
 };
 DisplayStatistics display_statistics(const Film& film, float exposure);

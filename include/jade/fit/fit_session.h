@@ -14,6 +14,7 @@
 #include "jade/core/timing.h"
 #include "jade/fit/display.h"
 #include "jade/fit/driver.h"
+#include "jade/fit/appearance.h"
 #include "jade/render/camera.h"
 #include "jade/render/renderer.h"
 #include "jade/render/scene.h"
@@ -46,6 +47,8 @@ struct FitRecord {
     double seconds = 0.0;  // since fitting began
     int spp = 0;
     std::array<double, 3> ks{}, a_photo{}, a_render{}, a_sigma{}, delta{}, distance{};
+    std::array<double, 3> s_photo{}, s_render{};   // spread S of the levels (fit/appearance.h)
+    double structure = -1.0;                       // structure distance render → photo
 };
 
 struct FitOutcome {
@@ -88,6 +91,8 @@ private:
     PinholeCamera camera_;
     RenderSettings settings_;
     RgbHistogram photo_histogram_;
+    TextureSpectrum photo_spectrum_;
+    double pixels_per_side_;   // of the fitting renders, where the object stands
     Spectrum shared_majorant_;
     Stopwatch clock_;
     Progress* progress_ = nullptr;

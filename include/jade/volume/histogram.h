@@ -25,6 +25,8 @@ struct RgbHistogram {
     std::array<double, 256> cdf(int channel) const;
     // A(κ) = sum_i i * H(i, κ), in gray levels 0..255.
     double mean(int channel) const;
+    // S(κ): the standard deviation of the levels, in gray levels.
+    double spread(int channel) const;
     // The level at quantile u in [0, 1): the smallest g with count(<= g) > u * total.
     int quantile(int channel, double u) const;
 };

@@ -1,0 +1,36 @@
+#pragma once
+// What a person compares when they hold a render beside the photo
+// (docs/design.md, "Appearance"), all in display levels over the object's
+// pixels: per channel the brightness A (§5.4), the spread S and the histogram
+// distance D; and the structure, through the texture spectra of the two
+// lumas at the same physical scale (volume/texture_spectrum.h).
+
+#include "jade/core/bounds.h"
+#include "jade/fit/display.h"
+#include "jade/render/camera.h"
+#include "jade/volume/histogram.h"
+#include "jade/volume/photo.h"
+#include "jade/volume/texture_spectrum.h"
+
+#include <array>
+
+namespace jade {
+
+struct Appearance {
+    std::array<double, 3> a_photo{}, a_render{}, s_photo{}, s_render{}, d{};
+    TextureSpectrum photo, render;
+    double structure = -1.0;   // structure_distance(render, photo); < 0 when they share too few bands
+};
+
+// Render pixels per cube side where the object stands: the cube side over one
+// pixel's footprint at the distance of the cube's centre.
+double render_pixels_per_side(const CameraParams& camera, const Cube& cube);
+
+// The photo's texture spectrum (its luma over the foreground; the photo spans
+// one cube side).
+TextureSpectrum photo_spectrum(const Photo& photo);
+
+Appearance compare_appearance(const RgbHistogram& photo_histogram, const TextureSpectrum& photo_spectrum,
+                              const DisplayStatistics& render, double render_pixels_per_side);
+
+}  // namespace jade
