@@ -413,6 +413,60 @@ int run_pipeline(PipelineFlags& p) {
     return 0;
 }
 
+struct BenchCommands {
+    CLI::App *bench, *volume, *render;
+};
+
+// `jaderender bench volume|render` and their flags.
+BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench, jade::RenderBenchOptions& rbench) {
+    auto* cmd = app.add_subcommand(
+        "bench", "Benchmarks: time, throughput, error against time and peak memory");
+    cmd->require_subcommand(1);
+    auto* bench_volume = cmd->add_subcommand(
+        "volume", "The volume's stages: noise + matching, .vdb write and read");
+    bench_volume->add_option("--resolution", bench.resolution, "Voxels along each side")
+        ->capture_default_str();
+    bench_volume->add_option("--photo", bench.photo,
+                             "Photo to match (default: a built-in synthetic stone)");
+    bench_volume->add_option("--repeats", bench.repeats, "Runs per stage; the best is reported")
+        ->capture_default_str();
+    bench_volume->add_option("--scratch", bench.scratch_dir,
+                             "Folder for the temporary .vdb (default: the system's temp folder)");
+    auto* bench_render = cmd->add_subcommand(
+        "render", "Progressive rendering of the material volume in a mesh until a target error");
+    bench_render->add_option("--photo", rbench.photo, "Photo (default: a built-in synthetic stone)");
+    bench_render->add_option("--mesh", rbench.mesh, "Mesh (default: a built-in sphere)");
+    bench_render->add_option("--resolution", rbench.resolution, "Voxels along each side")
+        ->capture_default_str();
+    bench_render->add_option("--width", rbench.width, "Image width")->capture_default_str();
+    bench_render->add_option("--height", rbench.height, "Image height")->capture_default_str();
+    bench_render->add_option("--target-error", rbench.target_error,
+                             "Estimated relative error to stop at")
+        ->capture_default_str();
+    bench_render->add_option("--max-seconds", rbench.max_seconds, "Time budget")
+        ->capture_default_str();
+
+    return {cmd, bench_volume, bench_render};
+}
+
+// Parses the command line: -1 to go on, else the exit code (0 after --help
+// or --version, 2 for a bad flag).
+int parse_flags(CLI::App& app, int argc, char** argv) {
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "jaderender: error: %s (see --help)\n", jade::Error(e.what()).what());
+        return 2;
+    }
+    return -1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -452,52 +506,14 @@ int main(int argc, char** argv) {
     PipelineFlags pipeline;
     add_pipeline_flags(app, pipeline);
 
-
-    auto* bench_cmd = app.add_subcommand(
-        "bench", "Benchmarks: time, throughput, error against time and peak memory");
-    bench_cmd->require_subcommand(1);
     jade::VolumeBenchOptions bench;
-    auto* bench_volume = bench_cmd->add_subcommand(
-        "volume", "The volume's stages: noise + matching, .vdb write and read");
-    bench_volume->add_option("--resolution", bench.resolution, "Voxels along each side")
-        ->capture_default_str();
-    bench_volume->add_option("--photo", bench.photo,
-                             "Photo to match (default: a built-in synthetic stone)");
-    bench_volume->add_option("--repeats", bench.repeats, "Runs per stage; the best is reported")
-        ->capture_default_str();
-    bench_volume->add_option("--scratch", bench.scratch_dir,
-                             "Folder for the temporary .vdb (default: the system's temp folder)");
     jade::RenderBenchOptions rbench;
-    auto* bench_render = bench_cmd->add_subcommand(
-        "render", "Progressive rendering of the material volume in a mesh until a target error");
-    bench_render->add_option("--photo", rbench.photo, "Photo (default: a built-in synthetic stone)");
-    bench_render->add_option("--mesh", rbench.mesh, "Mesh (default: a built-in sphere)");
-    bench_render->add_option("--resolution", rbench.resolution, "Voxels along each side")
-        ->capture_default_str();
-    bench_render->add_option("--width", rbench.width, "Image width")->capture_default_str();
-    bench_render->add_option("--height", rbench.height, "Image height")->capture_default_str();
-    bench_render->add_option("--target-error", rbench.target_error,
-                             "Estimated relative error to stop at")
-        ->capture_default_str();
-    bench_render->add_option("--max-seconds", rbench.max_seconds, "Time budget")
-        ->capture_default_str();
+    const BenchCommands benches = add_bench_commands(app, bench, rbench);
 
-    for (CLI::App* cmd : {volume_cmd, render_cmd, bench_cmd, bench_volume, bench_render})
+    for (CLI::App* cmd : {volume_cmd, render_cmd, benches.bench, benches.volume, benches.render})
         add_threads(*cmd);
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "jaderender: error: %s (see --help)\n",
-                     jade::Error(e.what()).what());
-        return 2;
-    }
+    if (const int code = parse_flags(app, argc, argv); code >= 0) return code;
 
     std::unique_ptr<tbb::global_control> thread_limit;
     if (threads > 0)
@@ -508,8 +524,8 @@ int main(int argc, char** argv) {
         if (app.get_subcommands().empty()) return run_pipeline(pipeline);
         if (*volume_cmd) return run_volume(vol);
         if (*render_cmd) return run_render(render_flags);
-        if (*bench_volume) return jade::run_volume_benchmark(bench);
-        if (*bench_render) return jade::run_render_benchmark(rbench);
+        if (*benches.volume) return jade::run_volume_benchmark(bench);
+        if (*benches.render) return jade::run_render_benchmark(rbench);
     } catch (const jade::Error& e) {
         std::fprintf(stderr, "jaderender: error: %s\n", e.what());
         return 2;

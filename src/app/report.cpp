@@ -42,6 +42,39 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     return s;
 }
 
+namespace {
+
+// The structure distance (texture_spectrum.h) of the volume's slices to the
+// photo, for the estimate and for the paper's fBm.
+nlohmann::json structure_json(const PipelineResult& res) {
+    const StructureEstimate& e = res.structure;
+    return {{"seconds", res.seconds_structure},  {"photo_orientation", e.photo.orientation},
+            {"photo_strength", e.photo.strength}, {"photo_coherence", e.photo.coherence},
+            {"distance", e.chosen.distance},      {"strength", e.chosen.strength},
+            {"coherence", e.chosen.coherence},    {"paper_fbm_distance", e.paper.distance},
+            {"paper_fbm_strength", e.paper.strength}};
+}
+
+// What a person compares (fit/appearance.h): per channel A, S and D, and the
+// structure of the render's object pixels against the photo's.
+nlohmann::json appearance_json(const Appearance& look) {
+    return {{"A_photo", look.a_photo},
+            {"A_render", look.a_render},
+            {"S_photo", look.s_photo},
+            {"S_render", look.s_render},
+            {"D", look.d},
+            {"structure_distance", look.structure},
+            {"photo_orientation", look.photo.orientation},
+            {"photo_strength", look.photo.strength},
+            {"photo_coherence", look.photo.coherence},
+            {"render_orientation", look.render.orientation},
+            {"render_strength", look.render.strength},
+            {"render_coherence", look.render.coherence},
+            {"render_square_pixels", look.render.square}};
+}
+
+}  // namespace
+
 std::string pipeline_report(const PipelineReport& in) {
     using nlohmann::json;
     const PipelineOptions& o = in.options;
@@ -64,18 +97,7 @@ std::string pipeline_report(const PipelineReport& in) {
                    {"ds", volume.optics.ds}, {"da", volume.optics.da},
                    {"density_scale", volume.optics.density_scale},
                    {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side}};
-    if (res.structure_estimated) {
-        // The structure distance (texture_spectrum.h) of the volume's slices to
-        // the photo, for the estimate and for the paper's fBm.
-        const StructureEstimate& e = res.structure;
-        j["structure"] = {{"seconds", res.seconds_structure},
-                          {"photo_orientation", e.photo.orientation},
-                          {"photo_strength", e.photo.strength},
-                          {"distance", e.chosen.distance},
-                          {"strength", e.chosen.strength},
-                          {"paper_fbm_distance", e.paper.distance},
-                          {"paper_fbm_strength", e.paper.strength}};
-    }
+    if (res.structure_estimated) j["structure"] = structure_json(res);
     std::array<std::string, 3> status;
     for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);
     j["fit"] = {{"method", to_string(o.fit.method)}, {"renders", fit.records.size()},
@@ -107,16 +129,7 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"stopped_by", res.final_render.stopped_by},
                          {"capped_paths", res.final_render.counters.capped_paths},
                          {"A_render", in.final_stats.a}};
-    // What a person compares (fit/appearance.h): per channel A, S and D, and
-    // the structure of the render's object pixels against the photo's.
-    const Appearance& look = res.final_look;
-    j["appearance"] = {{"A_photo", look.a_photo}, {"A_render", look.a_render}, {"S_photo", look.s_photo},
-                       {"S_render", look.s_render}, {"D", look.d}, {"structure_distance", look.structure},
-                       {"photo_orientation", look.photo.orientation}, {"photo_strength", look.photo.strength},
-                       {"photo_coherence", look.photo.coherence},
-                       {"render_orientation", look.render.orientation},
-                       {"render_strength", look.render.strength}, {"render_coherence", look.render.coherence},
-                       {"render_square_pixels", look.render.square}};
+    j["appearance"] = appearance_json(res.final_look);
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
     j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
