@@ -2,23 +2,17 @@
 
 #include "jade/io/atomic_file.h"
 #include "jade/core/error.h"
-#include "jade/core/parse.h"
 #include "jade/io/image_io.h"
+#include "jade/io/vdb_io.h"
 #include "jade/render/media/grid.h"
 #include "jade/render/media/homogeneous.h"
-#include "jade/geometry/mesh_io.h"
-#include "jade/geometry/mesh_accel.h"
-#include "jade/geometry/topology.h"
 #include "jade/core/progress.h"
 #include "jade/core/timing.h"
-
-#include <glm/geometric.hpp>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 
 namespace jade {
 
@@ -30,71 +24,7 @@ std::string sibling(const std::string& out, const std::string& suffix) {
     return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
 
-// More than this share of open edges makes "inside" meaningless.
-constexpr double kBadlyOpen = 0.01;
-
 }  // namespace
-
-std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
-    job.interface.validate();
-    auto prep = std::make_unique<PreparedScene>();
-
-    // Boundary.
-    prep->mesh = load_mesh(job.mesh);
-    const MeshTopology topo = mesh_topology(prep->mesh);
-    if (!topo.closed()) {
-        const double share = double(topo.boundary_edges + topo.nonmanifold_edges) / double(topo.edges);
-        std::ostringstream w;
-        w << job.mesh << ": the mesh is not closed (" << topo.boundary_edges << " open and "
-          << topo.nonmanifold_edges << " non-manifold of " << topo.edges
-          << " edges); each triangle's front (outward) side is taken as outside, so paths may "
-             "enter or leave the medium through the holes";
-        if (share > kBadlyOpen && !job.allow_open)
-            fail_file(job.mesh, "the mesh is badly open (" + std::to_string(topo.boundary_edges) +
-                                    " of " + std::to_string(topo.edges) +
-                                    " edges border a hole), so its inside is undefined; close it "
-                                    "or pass --allow-open");
-        prep->warnings.push_back(w.str());
-    }
-    prep->accel = std::make_unique<MeshAccel>(prep->mesh, job.flat_normals);
-    prep->cube = bounding_cube(prep->mesh);
-
-    // Lights.
-    Scene& scene = prep->scene;
-    scene.boundary = prep->accel.get();
-    scene.interface = job.interface;
-    scene.phase = PhaseFunction(job.g);
-    scene.light = DirectionalLight(job.light_direction, job.light_irradiance, job.light_radius_degrees);
-    Spectrum env;
-    if (parse_vec3(job.environment, env)) {
-        scene.environment = Environment(env * job.environment_scale);
-    } else {
-        scene.environment = Environment(read_image_f32(job.environment), job.environment_scale);
-    }
-    if (!job.background.empty()) {
-        prep->background.emplace(read_image_f32(job.background));
-        prep->backdrop.image = &*prep->background;
-    }
-    prep->backdrop.transparent = job.transparent;
-    scene.fit_ray_epsilon();
-
-    // Camera.
-    CameraParams cam = frame_mesh(prep->mesh.bounds(), job.width, job.height, job.fov_degrees);
-    if (!job.camera_file.empty()) {
-        if (job.camera_origin || job.camera_target_given)
-            throw Error("--camera-file cannot be combined with --camera-origin/--camera-target");
-        cam = camera_from_file(load_gltf_camera(job.camera_file), job.width, job.height);
-    }
-    if (job.camera_origin) {
-        cam.origin = *job.camera_origin;
-        cam.up = job.camera_up;
-        if (!job.camera_target_given) cam.target = prep->mesh.bounds().centre();
-    }
-    if (job.camera_target_given) cam.target = job.camera_target;
-    cam.validate();
-    prep->camera = cam;
-    return prep;
-}
 
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
                                const std::function<void(const PassRecord&)>& on_pass) {

@@ -3,16 +3,10 @@
 // lights, camera), rendered progressively and written out.
 
 #include "jade/app/job.h"
-#include "jade/render/camera.h"
-#include "jade/render/dielectric.h"
-#include "jade/geometry/mesh_accel.h"
-#include "jade/render/scene.h"
+#include "jade/app/scene_setup.h"
 #include "jade/render/renderer.h"
-#include "jade/io/vdb_io.h"
 
-#include <array>
-#include <memory>
-#include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,21 +26,5 @@ struct RenderJobResult {
 // or not at all). Throws jade::Error with one line naming the bad input.
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress = nullptr,
                                const std::function<void(const PassRecord&)>& on_pass = nullptr);
-
-// What a scene references, owned in one place: the mesh and its BVH, the
-// background image, the scene (lights, boundary; its medium left to the
-// caller) and the camera's parameters.
-struct PreparedScene {
-    TriangleMesh mesh;
-    std::unique_ptr<MeshAccel> accel;
-    Cube cube;                            // the mesh's bounding cube, where a volume goes
-    std::optional<Background> background;
-    Backdrop backdrop;                    // what camera rays that miss see (the background's image)
-    Scene scene;
-    CameraParams camera;
-    std::vector<std::string> warnings;    // e.g. an open mesh
-};
-// Loads and checks the mesh, lights and camera of a job (not its medium).
-std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job);
 
 }  // namespace jade
