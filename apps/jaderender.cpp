@@ -310,8 +310,8 @@ int run_render(RenderFlags& f) {
 struct PipelineFlags {
     VolumeOptions volume;
     RenderFlags scene;
-    std::string out_dir, fit = "bisect";
-    Vec3Flag ks_start;
+    std::string out_dir, fit = "contrast";
+    Vec3Flag ks_start, contrast_start;
     jade::PipelineOptions options;
 };
 
@@ -325,9 +325,13 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_flag("--allow-open", p.scene.job.allow_open, "Use a mesh with many open edges anyway");
     add_scene_flags(app, p.scene, "--render-seed");
     jade::PipelineOptions& o = p.options;
-    app.add_option("--fit", p.fit, "k_s driver: 'bisect' (bracket, then bisect), 'step' (the paper's "
-                                   "0.01 steps) or 'none'")
+    app.add_option("--fit", p.fit, "What the fit matches: 'contrast' (k_s and contrast per channel, for the "
+                                   "photo's brightness A and spread S), 'bisect' (k_s for A: bracket, then bisect), "
+                                   "'step' (k_s for A in the paper's 0.01 steps) or 'none'")
         ->capture_default_str();
+    app.add_option("--contrast", p.contrast_start.text,
+                   "Contrast of the levels about their mean, r,g,b (0..16; 1 = the paper's levels): where "
+                   "--fit contrast starts, or the one used by the other fits (default: 1, or that of --volume)");
     app.add_option("--ks", p.ks_start.text, "k_s to start the fit from (or to use with --fit none), r,g,b "
                                             "(default: 0, or the stored k_s of --volume)");
     app.add_option("--fit-width", o.fit.width, "Width of the fitting renders (0 = a quarter of --width)")
@@ -367,6 +371,10 @@ int run_pipeline(PipelineFlags& p) {
         const glm::vec3 k = p.ks_start.value("--ks");
         o.fit.ks_start = std::array<double, 3>{k.x, k.y, k.z};
     }
+    if (p.contrast_start.given()) {
+        const glm::vec3 g = p.contrast_start.value("--contrast");
+        o.fit.contrast_start = std::array<double, 3>{g.x, g.y, g.z};
+    }
     o.fit.method = jade::parse_fit_method(p.fit);
     o.out_dir = p.out_dir;
     o.render = p.scene.job;
@@ -378,9 +386,20 @@ int run_pipeline(PipelineFlags& p) {
         if (fit.state[c] != jade::ChannelState::Converged)
             std::fprintf(stderr, "jaderender: warning: fit: %s\n", fit.reason[c].c_str());
     const jade::FitRecord* best = fit.records.empty() ? nullptr : &fit.records.back();
-    std::printf("fit (%s): %zu renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); %s\n",
+    const bool contrast = o.fit.method == jade::FitMethod::Contrast;
+    char goal[96];
+    std::snprintf(goal, sizeof goal, contrast ? "|dA| < %g and |dS| < %g in every channel" : "|dA| < %g in every channel",
+                  fit.limits.tolerance, o.fit.s_tolerance);
+    std::printf("fit (%s): %zu renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
+                "(%.3f, %.3f, %.3f); %s\n",
                 p.fit.c_str(), fit.records.size(), fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
-                fit.ks[2], fit.converged ? "|dA| < 1 in every channel" : "NOT converged (see the warnings)");
+                fit.ks[2], fit.contrast[0], fit.contrast[1], fit.contrast[2],
+                fit.converged ? goal : "NOT converged (see the warnings)");
+    if (contrast)
+        std::printf("  S_material (the render's spread less its shading): (%.1f, %.1f, %.1f); the photo's S at the "
+                    "fitting renders' scale: (%.1f, %.1f, %.1f)\n",
+                    fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.s_photo[0], fit.s_photo[1],
+                    fit.s_photo[2]);
     if (best)
         std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
                     "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",

@@ -152,12 +152,13 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     {
         std::unique_ptr<Progress> bar;
         if (o.progress && o.fit.method != FitMethod::None)
-            bar = std::make_unique<Progress>("fitting k_s", std::size_t(o.fit.max_renders));
+ bar = std::make_unique<Progress>(o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast" : "fitting k_s", std::size_t(o.fit.max_renders));
         FitSession session(volume, prep->scene, prep->camera, o.render.settings, photo, o.fit);
         res.fit = session.run(bar.get());
         res.seconds_fit = res.fit.seconds;
     }
     volume.optics.ks = res.fit.ks;
+    volume.optics.contrast = res.fit.contrast;
     volume.exposure = res.fit.exposure;
 
     clock = Stopwatch();

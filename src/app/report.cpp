@@ -23,20 +23,21 @@ std::string channel_status(const FitOutcome& fit, int c) {
 std::string fit_csv(const std::vector<FitRecord>& rows) {
     std::string s = "iteration,seconds,spp";
     const char* ch[3] = {"r", "g", "b"};
-    for (const char* name : {"ks", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render"})
+    for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
+                             "S_photo_scaled", "S_material"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",structure\n";
+    s += ",structure,shading\n";
     char buf[64];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
         s += buf;
-        for (const auto* arr : {&r.ks, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance, &r.s_photo,
-                                &r.s_render})
+        for (const auto* arr : {&r.ks, &r.contrast, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance,
+                                &r.s_photo, &r.s_render, &r.s_photo_scaled, &r.s_material})
             for (double v : *arr) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        std::snprintf(buf, sizeof buf, ",%.6g\n", r.structure);
+        std::snprintf(buf, sizeof buf, ",%.6g,%d\n", r.structure, r.shading ? 1 : 0);
         s += buf;
     }
     return s;
@@ -95,7 +96,8 @@ std::string pipeline_report(const PipelineReport& in) {
                    {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
                    {"match", to_string(volume.match)},
                    {"ds", volume.optics.ds}, {"da", volume.optics.da},
-                   {"density_scale", volume.optics.density_scale},
+                   {"density_scale", volume.optics.density_scale}, {"contrast", volume.optics.contrast},
+                   {"mean_level", volume.optics.mean_level},
                    {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side}};
     if (res.structure_estimated) j["structure"] = structure_json(res);
     std::array<std::string, 3> status;
@@ -106,15 +108,19 @@ std::string pipeline_report(const PipelineReport& in) {
                 {"estimated_relative_error", fit.estimated_error}, {"exposure", fit.exposure},
                 {"exposure_matched", fit.exposure_matched}, {"tolerance", fit.limits.tolerance},
                 {"step", fit.limits.step}, {"ks_start", fit.ks_start}, {"ks_min", fit.limits.k_min},
-                {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"converged", fit.converged},
-                {"channel_status", status}};
+                {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"contrast_start", fit.contrast_start},
+                {"contrast", fit.contrast}, {"converged", fit.converged}, {"channel_status", status}};
+    if (o.fit.method == FitMethod::Contrast)
+        j["fit"]["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_fitting_scale", fit.s_photo},
+                         {"material", fit.s_material}};
     if (!fit.records.empty()) {
         // The fitting render at the chosen k_s (the best per channel may come from different renders).
         std::array<double, 3> delta{}, dist{};
         for (int c = 0; c < 3; ++c) {
             double best = 1e300;
             for (const FitRecord& r : fit.records)
-                if (r.ks[c] == fit.ks[c] && std::abs(r.delta[c]) < best) {
+                if (!r.shading && r.ks[c] == fit.ks[c] && r.contrast[c] == fit.contrast[c] &&
+                    std::abs(r.delta[c]) < best) {
                     best = std::abs(r.delta[c]);
                     delta[c] = r.delta[c];
                     dist[c] = r.distance[c];

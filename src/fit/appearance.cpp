@@ -1,11 +1,14 @@
 #include "jade/fit/appearance.h"
 
+#include "jade/core/display.h"
 #include "jade/core/math.h"
 #include "jade/volume/structure_estimate.h"
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace jade {
 
@@ -19,6 +22,27 @@ double render_pixels_per_side(const CameraParams& camera, const Cube& cube) {
 
 TextureSpectrum photo_spectrum(const Photo& photo) {
     return texture_spectrum(photo_luma(photo), photo_pixels_per_side(photo));
+}
+
+std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_side) {
+    const int b = std::max(1, int(std::lround(photo_pixels_per_side(photo) / render_pixels_per_side)));
+    std::vector<Rgb8> blocks;
+    for (int y0 = 0; y0 + b <= photo.height; y0 += b)
+        for (int x0 = 0; x0 + b <= photo.width; x0 += b) {
+            double sum[3] = {0, 0, 0};
+            int n = 0;
+            for (int y = y0; y < y0 + b; ++y)
+                for (int x = x0; x < x0 + b; ++x) {
+                    const std::size_t i = std::size_t(y) * photo.width + x;
+                    if (!photo.foreground[i]) continue;
+                    for (int c = 0; c < 3; ++c) sum[c] += srgb_decode(photo.levels[i][c] / 255.0);
+                    ++n;
+                }
+            if (2 * n < b * b) continue;  // a block mostly of background
+            blocks.push_back({display_level(sum[0] / n), display_level(sum[1] / n), display_level(sum[2] / n)});
+        }
+    const RgbHistogram h = RgbHistogram::of(blocks.empty() ? photo.foreground_levels() : blocks);
+    return {h.spread(0), h.spread(1), h.spread(2)};
 }
 
 Appearance compare_appearance(const RgbHistogram& photo_histogram, const TextureSpectrum& photo,

@@ -39,9 +39,7 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
                 // linear toe and the clamp at 1 have no second derivative).
                 const double h = 1e-3;
                 if (lin < 1.0 && std::isfinite(v[c])) {
-                    const double lo = std::max(0.0, lin - h), hi = std::min(1.0, lin + h);
-                    const double slope = 255.0 * (srgb_encode(hi) - srgb_encode(lo)) / (hi - lo);
-                    const double g = slope * exposure / cov;
+                    const double g = level_slope(lin) * exposure / cov;
                     var_sum[c] += g * g * v[c];
                     level_sigma[c] = g * std::sqrt(double(v[c]));
                     if (lin - h > 0.0031308 && lin + h < 1.0) {
@@ -66,6 +64,166 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
         s.s[c] = s.pixels ? std::sqrt(std::max(0.0, spread * spread - var_sum[c] / double(s.pixels))) : 0.0;
     }
     s.luma_noise_variance = s.pixels ? luma_var_sum / double(s.pixels) : 0.0;
+    return s;
+}
+
+double level_slope(double linear) {
+    if (linear >= 1.0) return 0.0;
+    const double h = 1e-3;
+    const double lo = std::max(0.0, linear - h), hi = std::min(1.0, linear + h);
+    return 255.0 * (srgb_encode(hi) - srgb_encode(lo)) / (hi - lo);
+}
+
+namespace {
+
+// One channel of a film over the object's pixels: exposed linear values
+// divided by coverage, their variances, and which pixels are the object's.
+struct ObjectChannel {
+    int width = 0, height = 0;
+    std::vector<double> value, variance;
+    std::vector<std::uint8_t> inside;
+};
+
+ObjectChannel object_channel(const Film& film, int c, float exposure) {
+    ObjectChannel o;
+    o.width = film.width();
+    o.height = film.height();
+    const std::size_t n = std::size_t(o.width) * o.height;
+    o.value.assign(n, 0.0);
+    o.variance.assign(n, 0.0);
+    o.inside.assign(n, 0);
+    for (int y = 0; y < o.height; ++y)
+        for (int x = 0; x < o.width; ++x) {
+            const float cov = film.coverage(x, y);
+            if (!is_object_pixel(cov)) continue;
+            const std::size_t i = std::size_t(y) * o.width + x;
+            const double scale = exposure / cov;
+            o.value[i] = film.mean(x, y)[c] * scale;
+            const double var = film.variance_of_mean(x, y)[c];
+            o.variance[i] = std::isfinite(var) ? var * scale * scale : 0.0;
+            o.inside[i] = 1;
+        }
+    return o;
+}
+
+// The mean of the object's pixels in each b×b block of the image (blocks at
+// least half the object's), and its variance.
+ObjectChannel block_means(const ObjectChannel& in, int b) {
+    ObjectChannel out;
+    out.width = in.width / b;
+    out.height = in.height / b;
+    const std::size_t n = std::size_t(out.width) * out.height;
+    out.value.assign(n, 0.0);
+    out.variance.assign(n, 0.0);
+    out.inside.assign(n, 0);
+    for (int by = 0; by < out.height; ++by)
+        for (int bx = 0; bx < out.width; ++bx) {
+            double sum = 0.0, var = 0.0;
+            int count = 0;
+            for (int y = by * b; y < (by + 1) * b; ++y)
+                for (int x = bx * b; x < (bx + 1) * b; ++x) {
+                    const std::size_t j = std::size_t(y) * in.width + x;
+                    if (!in.inside[j]) continue;
+                    sum += in.value[j];
+                    var += in.variance[j];
+                    ++count;
+                }
+            if (2 * count < b * b) continue;
+            const std::size_t i = std::size_t(by) * out.width + bx;
+            out.value[i] = sum / count;
+            out.variance[i] = var / (double(count) * count);
+            out.inside[i] = 1;
+        }
+    return out;
+}
+
+// The mean display level of `scale` × the inside values.
+double mean_level(const ObjectChannel& f, double scale) {
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < f.inside.size(); ++i)
+        if (f.inside[i]) sum += 255.0 * srgb_encode(std::clamp(scale * f.value[i], 0.0, 1.0)), ++n;
+    return n ? sum / double(n) : 0.0;
+}
+
+// The render flattened by its shading, pixel by pixel: r / h, scaled so
+// that its mean display level is the render's (the flattened image is the
+// stone at the render's brightness A). Both renders follow the same paths
+// (common random numbers, one majorant), so the noise they share cancels in
+// the ratio; pixels whose shading is below 5 % of its mean (the dark rim)
+// are left out.
+ObjectChannel flattened(const ObjectChannel& r, const ObjectChannel& h) {
+    ObjectChannel f = r;
+    double h_mean = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < r.inside.size(); ++i)
+        if (r.inside[i] && h.inside[i]) h_mean += h.value[i], ++n;
+    h_mean = n ? h_mean / double(n) : 0.0;
+    for (std::size_t i = 0; i < r.inside.size(); ++i) {
+        f.inside[i] = r.inside[i] && h.inside[i] && h_mean > 0.0 && h.value[i] >= 0.05 * h_mean;
+        f.value[i] = f.inside[i] ? r.value[i] / h.value[i] : 0.0;
+    }
+    ObjectChannel r_inside = r;
+    r_inside.inside = f.inside;
+    const double target = mean_level(r_inside, 1.0);
+    // The mean level grows with the scale: bisection on its logarithm.
+    double lo = std::log(1e-6), hi = std::log(1e6);
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (mean_level(f, std::exp(mid)) < target ? lo : hi) = mid;
+    }
+    const double scale = std::exp(0.5 * (lo + hi));
+    for (double& v : f.value) v *= scale;
+    return f;
+}
+
+// The spread of the levels of a channel's object pixels.
+double level_spread(const ObjectChannel& f) {
+    double sum = 0.0, sum2 = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < f.inside.size(); ++i) {
+        if (!f.inside[i]) continue;
+        const double level = 255.0 * srgb_encode(std::clamp(f.value[i], 0.0, 1.0));
+        sum += level;
+        sum2 += level * level;
+        ++n;
+    }
+    if (n < 2) return 0.0;
+    const double mean = sum / double(n);
+    return std::sqrt(std::max(0.0, sum2 / double(n) - mean * mean));
+}
+
+}  // namespace
+
+Photo flat_render(const Film& render, const Film& shading, float exposure) {
+    Photo p;
+    p.width = render.width();
+    p.height = render.height();
+    const std::size_t n = std::size_t(p.width) * p.height;
+    p.levels.assign(n, Rgb8{0, 0, 0});
+    p.foreground.assign(n, 1);
+    for (int c = 0; c < 3; ++c) {
+        const ObjectChannel f = flattened(object_channel(render, c, exposure), object_channel(shading, c, exposure));
+        for (std::size_t i = 0; i < n; ++i) {
+            p.levels[i][c] = display_level(f.value[i]);
+            p.foreground[i] = p.foreground[i] && f.inside[i];
+        }
+    }
+    return p;
+}
+
+int material_block(double relative_error) {
+    constexpr double kBlockError = 0.1;
+    return std::clamp(int(std::ceil(relative_error / kBlockError)), 1, 8);
+}
+
+std::array<double, 3> material_spread(const Film& render, const Film& shading, float exposure, int block) {
+    if (render.width() != shading.width() || render.height() != shading.height())
+        throw Error("internal: material_spread needs a render and a shading render of one size");
+    std::array<double, 3> s{};
+    for (int c = 0; c < 3; ++c)
+        s[c] = level_spread(block_means(flattened(object_channel(render, c, exposure),
+                                                  object_channel(shading, c, exposure)), block));
     return s;
 }
 

@@ -9,13 +9,11 @@
 
 namespace jade {
 
-namespace {
-}
-
 const char* to_string(FitMethod m) {
     switch (m) {
     case FitMethod::Step: return "step";
     case FitMethod::Bisect: return "bisect";
+    case FitMethod::Contrast: return "contrast";
     case FitMethod::None: return "none";
     }
     return "?";
@@ -24,8 +22,9 @@ const char* to_string(FitMethod m) {
 FitMethod parse_fit_method(const std::string& name) {
     if (name == "step") return FitMethod::Step;
     if (name == "bisect") return FitMethod::Bisect;
+    if (name == "contrast") return FitMethod::Contrast;
     if (name == "none") return FitMethod::None;
-    throw Error("--fit must be 'bisect', 'step' or 'none', not '" + name + "'");
+    throw Error("--fit must be 'contrast', 'bisect', 'step' or 'none', not '" + name + "'");
 }
 
 FitDriver::FitDriver(FitMethod method, const std::array<double, 3>& k_start, const FitLimits& limits)

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace jade {
 
@@ -19,15 +20,41 @@ CameraParams at_width(CameraParams cam, int width) {
     return cam;
 }
 
-FitLimits limits_for(const MaterialVolume& volume, double k_max) {
+std::array<int, 3> lowest_levels(const MaterialVolume& volume) {
+    std::array<int, 3> lowest{255, 255, 255};
+    for (const Rgb8& lv : volume.levels)
+        for (int c = 0; c < 3; ++c) lowest[c] = std::min(lowest[c], int(lv[c]));
+    return lowest;
+}
+
+// The smallest k_s keeps σ_s = v'·d_s + k_s >= 0 in the lowest voxel.
+double k_min_for(const MaterialVolume& volume, int lowest_level, int c, double contrast) {
+    OpticalParams optics = volume.optics;
+    optics.contrast[c] = contrast;
+    return -contrasted_level(lowest_level, c, optics) * optics.ds;
+}
+
+FitLimits limits_for(const MaterialVolume& volume, const std::array<int, 3>& lowest,
+                     const std::array<double, 3>& contrast, double k_max) {
     FitLimits limits;
     limits.k_max = k_max;
-    for (int c = 0; c < 3; ++c) {
-        int lowest = 255;
-        for (const Rgb8& lv : volume.levels) lowest = std::min(lowest, int(lv[c]));
-        limits.k_min[c] = -(lowest / 256.0) * volume.optics.ds;
-    }
+    for (int c = 0; c < 3; ++c) limits.k_min[c] = k_min_for(volume, lowest[c], c, contrast[c]);
     return limits;
+}
+
+// The next contrast for a channel whose S_material is `s` at contrast g and
+// should be `target`: S grows about in proportion to g (the levels' spread
+// about their mean does exactly), so the first step scales g by target / s;
+// once two contrasts were tried, a secant through them. Each step at most
+// quadruples or quarters g.
+double next_contrast(double g, double s, double target, bool have_prev, double g_prev, double s_prev) {
+    double next = s > 0.0 ? g * target / s : 2.0 * g;
+    if (have_prev && std::abs(g - g_prev) > 1e-3) {
+        const double slope = (s - s_prev) / (g - g_prev);
+        if (slope > 0.0) next = g + (target - s) / slope;
+    }
+    if (g > 0.0) next = std::clamp(next, 0.25 * g, 4.0 * g);
+    return std::clamp(next, 0.0, kMaxContrast);
 }
 
 
@@ -35,8 +62,16 @@ FitLimits limits_for(const MaterialVolume& volume, double k_max) {
 
 void FitOptions::validate() const {
     if (max_renders < 1) throw Error("--fit-max-renders must be at least 1");
-    if (max_renders < 2 && (method == FitMethod::Bisect || exposure == 0.f))
+    if (max_renders < 2 && (bisects(method) || exposure == 0.f))
         throw Error("--fit-max-renders must be at least 2: the fit starts with renders at both k_s bounds");
+    if (method == FitMethod::Contrast && max_renders < 6)
+        throw Error("--fit-max-renders must be at least 6 with --fit contrast: 2 at the k_s bounds, then a "
+                    "render and its shading render per step");
+    if (!(s_tolerance > 0)) throw Error("the S tolerance must be positive");
+    if (contrast_start)
+        for (double g : *contrast_start)
+            if (!(g >= 0.0 && g <= kMaxContrast))
+                throw Error("--contrast must be between 0 and " + std::to_string(int(kMaxContrast)));
     if (!(noise > 0)) throw Error("--fit-noise must be positive");
     if (!(error > 0)) throw Error("--fit-error must be positive");
     if (spp_max < 16) throw Error("--fit-spp-max must be at least 16");
@@ -55,8 +90,9 @@ int fitting_width(const CameraParams& camera, const FitOptions& options) {
 
 FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
                        const RenderSettings& settings, const Photo& photo, const FitOptions& options)
-    : volume_(volume), scene_(scene), photo_(photo), options_(options),
-      limits_(limits_for(volume, options.k_max)),
+    : volume_(volume), scene_(scene), photo_(photo), options_(options), lowest_level_(lowest_levels(volume)),
+      limits_(limits_for(volume, lowest_level_, options.contrast_start.value_or(volume.optics.contrast),
+                         options.k_max)),
       camera_(at_width(camera, fitting_width(camera, options))), settings_(settings),
       photo_histogram_(RgbHistogram::of(photo.foreground_levels())), photo_spectrum_(photo_spectrum(photo)),
       pixels_per_side_(render_pixels_per_side(at_width(camera, fitting_width(camera, options)), volume.cube)) {
@@ -67,12 +103,16 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
     settings_.backdrop = Backdrop{nullptr, true};
     OpticalParams at_max = volume.optics;
     at_max.ks = {limits_.k_max, limits_.k_max, limits_.k_max};
+    // Clipped at every level: the largest σ_t any contrast the fit tries gives.
+    at_max.contrast = {kMaxContrast, kMaxContrast, kMaxContrast};
     shared_majorant_ = MaterialVolumeMedium(volume, volume.cube, at_max).majorant();
 }
 
-RenderResult FitSession::render_at(const std::array<double, 3>& ks, int spp) const {
+RenderResult FitSession::render_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast,
+                                   int spp) const {
     OpticalParams optics = volume_.optics;
     optics.ks = ks;
+    optics.contrast = contrast;
     const MaterialVolumeMedium medium(volume_, volume_.cube, optics, shared_majorant_);
     Scene scene = scene_;
     scene.medium = &medium;
@@ -86,14 +126,14 @@ RenderResult FitSession::render_at(const std::array<double, 3>& ks, int spp) con
 // (measured at the photo's mean luminance) and the estimated per-pixel error
 // below options.error. The light's rare paths make both estimates read low at
 // a few samples, hence the start at 256.
-RenderResult FitSession::fitting_render(const std::array<double, 3>& ks) {
+RenderResult FitSession::fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast) {
     RenderResult r;
     if (outcome_.spp > 0) {
-        r = render_at(ks, outcome_.spp);
+        r = render_at(ks, contrast, outcome_.spp);
     } else {
         constexpr int kFirstFitSpp = 256;
         for (int spp = std::min(kFirstFitSpp, options_.spp_max);; spp *= 2) {
-            r = render_at(ks, spp);
+            r = render_at(ks, contrast, spp);
             const float e = options_.exposure > 0 ? options_.exposure : matching_exposure(r.film, photo_);
             const DisplayStatistics st = display_statistics(r.film, e);
             if (st.pixels == 0)
@@ -113,8 +153,9 @@ RenderResult FitSession::fitting_render(const std::array<double, 3>& ks) {
     return r;
 }
 
-// A row of fit.csv for a render at ks; returns ΔA per channel.
-std::array<double, 3> FitSession::record(const std::array<double, 3>& ks, const Film& film) {
+// A row of fit.csv for a render at ks and contrast.
+FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<double, 3>& contrast,
+                              const Film& film) {
     const DisplayStatistics st = display_statistics(film, outcome_.exposure);
     const Appearance look = compare_appearance(photo_histogram_, photo_spectrum_, st, pixels_per_side_);
     FitRecord rec;
@@ -122,6 +163,7 @@ std::array<double, 3> FitSession::record(const std::array<double, 3>& ks, const 
     rec.seconds = clock_.seconds();
     rec.spp = outcome_.spp;
     rec.ks = ks;
+    rec.contrast = contrast;
     for (int c = 0; c < 3; ++c) {
         rec.a_photo[c] = photo_histogram_.mean(c);
         rec.a_render[c] = st.a[c];
@@ -133,7 +175,7 @@ std::array<double, 3> FitSession::record(const std::array<double, 3>& ks, const 
     }
     rec.structure = look.structure;
     outcome_.records.push_back(rec);
-    return rec.delta;
+    return outcome_.records.back();
 }
 
 // Renders at both bounds: they bracket every reachable channel, and they fix
@@ -142,14 +184,15 @@ std::array<double, 3> FitSession::record(const std::array<double, 3>& ks, const 
 void FitSession::bracket(FitDriver& driver) {
     const std::array<double, 3> k_lo = limits_.k_min;
     const std::array<double, 3> k_hi{limits_.k_max, limits_.k_max, limits_.k_max};
-    const RenderResult r_lo = fitting_render(k_lo);
-    const RenderResult r_hi = fitting_render(k_hi);
+    const std::array<double, 3>& g = outcome_.contrast_start;
+    const RenderResult r_lo = fitting_render(k_lo, g);
+    const RenderResult r_hi = fitting_render(k_hi, g);
     if (outcome_.exposure_matched)
         outcome_.exposure = float(exposure_in_reach(
             r_lo.film, r_hi.film, {photo_histogram_.mean(0), photo_histogram_.mean(1), photo_histogram_.mean(2)}));
-    const std::array<double, 3> d_lo = record(k_lo, r_lo.film);
-    const std::array<double, 3> d_hi = record(k_hi, r_hi.film);
-    if (options_.method == FitMethod::Bisect) driver.observe_bounds(d_lo, d_hi);
+    const std::array<double, 3> d_lo = record(k_lo, g, r_lo.film).delta;
+    const std::array<double, 3> d_hi = record(k_hi, g, r_hi.film).delta;
+    if (bisects(options_.method)) driver.observe_bounds(d_lo, d_hi);
 }
 
 FitOutcome FitSession::run(Progress* progress) {
@@ -161,24 +204,29 @@ FitOutcome FitSession::run(Progress* progress) {
     outcome_.width = camera_.width();
     outcome_.height = camera_.height();
     outcome_.ks_start = options_.ks_start.value_or(volume_.optics.ks);
+    outcome_.contrast_start = options_.contrast_start.value_or(volume_.optics.contrast);
     outcome_.exposure = options_.exposure;
     outcome_.exposure_matched = options_.exposure == 0.f;
     const bool fitting = options_.method != FitMethod::None;
+    const std::array<double, 3>& g = outcome_.contrast_start;
 
     FitDriver driver(options_.method, outcome_.ks_start, limits_);
-    if (options_.method == FitMethod::Bisect || (fitting && outcome_.exposure_matched)) bracket(driver);
-    while (fitting && !driver.done() && int(outcome_.records.size()) < options_.max_renders) {
+    if (bisects(options_.method) || (fitting && outcome_.exposure_matched)) bracket(driver);
+    // --fit contrast keeps renders for at least two of its steps.
+    const int k_renders = options_.max_renders - (options_.method == FitMethod::Contrast ? 4 : 0);
+    while (fitting && !driver.done() && fitting_renders() < k_renders) {
         const std::array<double, 3> ks = driver.k();
-        const RenderResult r = fitting_render(ks);
+        const RenderResult r = fitting_render(ks, g);
         if (outcome_.exposure == 0.f) outcome_.exposure = matching_exposure(r.film, photo_);
-        driver.observe(record(ks, r.film));
+        driver.observe(record(ks, g, r.film).delta);
     }
     if (!fitting && outcome_.exposure == 0.f) {
         // Nothing fitted: still match the exposure, from one fitting render.
-        const RenderResult r = render_at(outcome_.ks_start, outcome_.spp > 0 ? outcome_.spp : 64);
+        const RenderResult r = render_at(outcome_.ks_start, g, outcome_.spp > 0 ? outcome_.spp : 64);
         outcome_.exposure = matching_exposure(r.film, photo_);
     }
     finish(driver);
+    if (options_.method == FitMethod::Contrast) fit_contrast();
     outcome_.seconds = clock_.seconds();
     progress_ = nullptr;
     return outcome_;
@@ -187,6 +235,7 @@ FitOutcome FitSession::run(Progress* progress) {
 void FitSession::finish(const FitDriver& driver) {
     const bool fitting = options_.method != FitMethod::None;
     outcome_.converged = true;
+    outcome_.contrast = outcome_.contrast_start;
     for (int c = 0; c < 3; ++c) {
         outcome_.ks[c] = fitting ? driver.best_k()[c] : outcome_.ks_start[c];
         outcome_.state[c] = driver.state(c);
@@ -195,6 +244,101 @@ void FitSession::finish(const FitDriver& driver) {
             outcome_.reason[c] = std::string(channel_name(c)) + ": not converged within --fit-max-renders " +
                                  std::to_string(options_.max_renders) + " renders";
         if (driver.state(c) != ChannelState::Converged) outcome_.converged = false;
+    }
+}
+
+int FitSession::fitting_renders() const { return int(outcome_.records.size()); }
+
+double FitSession::k_min_at(int c, double contrast) const {
+    return k_min_for(volume_, lowest_level_[c], c, contrast);
+}
+
+// dA/dk_s per channel near the fitted k_s, from the k_s-only renders: the
+// secant through the two renders nearest it (the bracket's last ends), or
+// through the bounds when those are too close to tell.
+std::array<double, 3> FitSession::brightness_slopes() const {
+    std::array<double, 3> slope{};
+    const auto& recs = outcome_.records;
+    for (int c = 0; c < 3; ++c) {
+        const double k = outcome_.ks[c];
+        const FitRecord* below = nullptr;
+        const FitRecord* above = nullptr;
+        for (const FitRecord& r : recs) {
+            if (r.ks[c] < k - 1e-6 && (!below || r.ks[c] > below->ks[c])) below = &r;
+            if (r.ks[c] > k + 1e-6 && (!above || r.ks[c] < above->ks[c])) above = &r;
+        }
+        if (!below || !above) below = &recs.front(), above = &recs[1];
+        const double dk = above->ks[c] - below->ks[c];
+        slope[c] = dk > 0.0 ? (above->a_render[c] - below->a_render[c]) / dk : 0.0;
+        if (!(slope[c] > 0.0) && recs.size() >= 2 && recs[1].ks[c] > recs[0].ks[c])
+            slope[c] = (recs[1].a_render[c] - recs[0].a_render[c]) / (recs[1].ks[c] - recs[0].ks[c]);
+        if (!(slope[c] > 0.0)) slope[c] = 1.0;  // A does not grow with k_s here: step one k_s per level
+    }
+    return slope;
+}
+
+// --fit contrast, after k_s matched A: k_s and the contrast g_c together
+// until A and S_material match in every channel (docs/design.md,
+// "Contrast"). Each step renders the mean medium (contrast 0: the shading)
+// and the volume at (k_s, g), both at the fitting renders' random numbers;
+// g moves S_material towards the photo's S (next_contrast), k_s moves A back
+// by Newton's step with the slope measured by the k_s search. The channels
+// are independent (one render serves all three); a channel stops when both
+// |ΔA| < 1 and |ΔS| < s_tolerance, and keeps the best (k_s, g) it saw.
+void FitSession::fit_contrast() {
+    std::array<double, 3> k = outcome_.ks, g = outcome_.contrast_start;
+    const std::array<double, 3> slope = brightness_slopes();
+    std::array<bool, 3> done{};
+    std::array<double, 3> best_score{1e300, 1e300, 1e300};
+    std::array<double, 3> g_prev{}, s_prev{};
+    bool have_prev = false;
+    const int block = material_block(outcome_.estimated_error);
+    const std::array<double, 3> s_photo = photo_spread(photo_, pixels_per_side_ / block);
+    while (fitting_renders() + 2 <= options_.max_renders) {
+        const RenderResult shading = fitting_render(k, {0.0, 0.0, 0.0});
+        record(k, {0.0, 0.0, 0.0}, shading.film).shading = true;
+        const RenderResult r = fitting_render(k, g);
+        const std::array<double, 3> s_mat = material_spread(r.film, shading.film, outcome_.exposure, block);
+        FitRecord& rec = record(k, g, r.film);
+        rec.s_material = s_mat;
+        rec.s_photo_scaled = s_photo;
+        bool all_done = true;
+        for (int c = 0; c < 3; ++c) {
+            const double score = std::max(std::abs(rec.delta[c]) / limits_.tolerance,
+                                          std::abs(s_mat[c] - s_photo[c]) / options_.s_tolerance);
+            if (score < best_score[c]) {
+                best_score[c] = score;
+                outcome_.ks[c] = k[c];
+                outcome_.contrast[c] = g[c];
+                outcome_.s_material[c] = s_mat[c];
+            }
+            if (done[c] || (done[c] = score < 1.0)) continue;
+            all_done = false;
+            const double g_next = next_contrast(g[c], s_mat[c], s_photo[c], have_prev, g_prev[c], s_prev[c]);
+            g_prev[c] = g[c];
+            s_prev[c] = s_mat[c];
+            k[c] = std::clamp(k[c] - rec.delta[c] / slope[c], k_min_at(c, g_next), limits_.k_max);
+            g[c] = g_next;
+        }
+        have_prev = true;
+        if (all_done) break;
+    }
+    outcome_.s_photo = s_photo;
+    outcome_.material_block = block;
+    outcome_.converged = true;
+    for (int c = 0; c < 3; ++c) {
+        outcome_.state[c] = done[c] ? ChannelState::Converged : ChannelState::Unreachable;
+        outcome_.reason[c].clear();
+        if (!done[c]) {
+            outcome_.converged = false;
+            char why[256];
+            std::snprintf(why, sizeof why,
+                          "%s: A and S_material not both matched (|dA| < %.1f, |dS| < %.1f) within "
+                          "--fit-max-renders %d; the best k_s and contrast are kept (S %.1f against the photo's %.1f)",
+                          channel_name(c), limits_.tolerance, options_.s_tolerance, options_.max_renders,
+                          outcome_.s_material[c], s_photo[c]);
+            outcome_.reason[c] = why;
+        }
     }
 }
 

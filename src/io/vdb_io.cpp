@@ -110,6 +110,10 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:da", openvdb::DoubleMetadata(v.optics.da));
     meta.insertMeta("jade:ks", openvdb::Vec3DMetadata(
                                    openvdb::Vec3d(v.optics.ks[0], v.optics.ks[1], v.optics.ks[2])));
+    meta.insertMeta("jade:contrast", openvdb::Vec3DMetadata(openvdb::Vec3d(
+                                         v.optics.contrast[0], v.optics.contrast[1], v.optics.contrast[2])));
+    meta.insertMeta("jade:mean_level", openvdb::Vec3DMetadata(openvdb::Vec3d(
+                                           v.optics.mean_level[0], v.optics.mean_level[1], v.optics.mean_level[2])));
     meta.insertMeta("jade:density_scale", openvdb::DoubleMetadata(v.optics.density_scale));
     meta.insertMeta("jade:cube_min", openvdb::Vec3DMetadata(openvdb::Vec3d(
                                          v.cube.min[0], v.cube.min[1], v.cube.min[2])));
@@ -193,6 +197,14 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     const auto ks = required_meta<openvdb::Vec3d>(meta, path, "jade:ks");
     v.optics.ks = {ks[0], ks[1], ks[2]};
     v.optics.density_scale = required_meta<double>(meta, path, "jade:density_scale");
+    // Files from before the contrast lever hold the paper's levels (g = 1);
+    // their mean level is then taken from the levels read.
+    if (const auto m = meta.getMetadata<openvdb::Vec3DMetadata>("jade:contrast"))
+        v.optics.contrast = {m->value()[0], m->value()[1], m->value()[2]};
+    if (const auto m = meta.getMetadata<openvdb::Vec3DMetadata>("jade:mean_level"))
+        v.optics.mean_level = {m->value()[0], m->value()[1], m->value()[2]};
+    else if (v.optics.contrast != std::array<double, 3>{1, 1, 1})
+        fail_file(path, "metadata 'jade:contrast' needs 'jade:mean_level'");
     const auto cmin = required_meta<openvdb::Vec3d>(meta, path, "jade:cube_min");
     v.cube.min = {cmin[0], cmin[1], cmin[2]};
     v.cube.side = required_meta<double>(meta, path, "jade:cube_side");
@@ -213,9 +225,10 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
 
 // Inverts the coefficient formula for one voxel: the level whose coefficient
 // is nearest the stored one, searched around the formula's inverse.
-// sigma_a = (1 - v_c) d_s d_a is never clamped; without absorption,
-// sigma_s = v_c d_s + k_s. False when the grids do not follow from that level
-// and the metadata (to half-float precision).
+// sigma_a = (1 - v'_c) d_s d_a is clamped only by the contrast's clip (where
+// every clipped level gives the same coefficients); without absorption,
+// sigma_s = v'_c d_s + k_s. False when the grids do not follow from that
+// level and the metadata (to half-float precision).
 bool levels_of_voxel(const openvdb::Vec3f& ss, const openvdb::Vec3f& sa, const MaterialVolume& v,
                      const CoefficientTable& table, Rgb8& lv) {
     const double to_paper = v.cube.side / v.optics.density_scale;
@@ -225,8 +238,10 @@ bool levels_of_voxel(const openvdb::Vec3f& ss, const openvdb::Vec3f& sa, const M
     for (int c = 0; c < 3; ++c) {
         const auto& column = by_a ? table.sigma_a[c] : table.sigma_s[c];
         const float stored = by_a ? sa[c] : ss[c];
-        const double vc = by_a ? 1.0 - stored * to_paper / (v.optics.ds * v.optics.da)
-                               : (stored * to_paper - v.optics.ks[c]) / v.optics.ds;
+        const double vc_contrasted = by_a ? 1.0 - stored * to_paper / (v.optics.ds * v.optics.da)
+                                          : (stored * to_paper - v.optics.ks[c]) / v.optics.ds;
+        const double g = v.optics.contrast[c], m = v.optics.mean_level[c];
+        const double vc = g > 0.0 ? m + (vc_contrasted - m) / g : m;
         const int guess = int(std::clamp(std::lround(vc * 256.0), 0L, 255L));
         int best = guess;
         for (int l = std::max(0, guess - 4); l <= std::min(255, guess + 4); ++l)
@@ -302,6 +317,7 @@ MaterialVolume read_material_vdb(const std::string& path) {
     if (!consistent)
         fail_file(path, "its sigma_s/sigma_a grids do not follow from its jade: metadata "
                         "(edited by another tool?)");
+    if (!meta->getMetadata<openvdb::Vec3DMetadata>("jade:mean_level")) v.optics.mean_level = mean_levels(v.levels);
     return v;
 }
 

@@ -17,19 +17,40 @@ void OpticalParams::validate() const {
         throw Error("--da must be zero or positive, got " + std::to_string(da));
     for (double k : ks)
         if (!std::isfinite(k)) throw Error("--ks must be finite numbers");
+    for (double g : contrast)
+        if (!(g >= 0.0 && g <= kMaxContrast))
+            throw Error("--contrast must be between 0 and " + std::to_string(int(kMaxContrast)) + " in every channel");
+    for (double m : mean_level)
+        if (!(m >= 0.0 && m <= 1.0)) throw Error("the volume's mean level must lie in [0, 1]");
     if (!(density_scale > 0.0) || !std::isfinite(density_scale))
         throw Error("--density-scale must be a positive number, got " +
                     std::to_string(density_scale));
 }
 
-double paper_sigma_s(int level, int channel, const OpticalParams& p) {
+double contrasted_level(int level, int channel, const OpticalParams& p) {
     const double vc = level / 256.0;
-    return std::max(0.0, vc * p.ds + p.ks[channel]);
+    const double g = p.contrast[channel];
+    if (g == 1.0) return vc;  // exactly the paper's level
+    const double m = p.mean_level[channel];
+    return std::clamp(m + g * (vc - m), 0.0, 1.0);
 }
 
-double paper_sigma_a(int level, const OpticalParams& p) {
-    const double vc = level / 256.0;
-    return (1.0 - vc) * p.ds * p.da;
+double paper_sigma_s(int level, int channel, const OpticalParams& p) {
+    return std::max(0.0, contrasted_level(level, channel, p) * p.ds + p.ks[channel]);
+}
+
+double paper_sigma_a(int level, int channel, const OpticalParams& p) {
+    return (1.0 - contrasted_level(level, channel, p)) * p.ds * p.da;
+}
+
+std::array<double, 3> mean_levels(const std::vector<Rgb8>& levels) {
+    std::array<double, 3> sum{0, 0, 0};
+    for (const Rgb8& lv : levels)
+        for (int c = 0; c < 3; ++c) sum[c] += lv[c];
+    std::array<double, 3> mean{0.5, 0.5, 0.5};
+    if (!levels.empty())
+        for (int c = 0; c < 3; ++c) mean[c] = sum[c] / (256.0 * double(levels.size()));
+    return mean;
 }
 
 CoefficientTable::CoefficientTable(const OpticalParams& p, double cube_side) {
@@ -37,7 +58,7 @@ CoefficientTable::CoefficientTable(const OpticalParams& p, double cube_side) {
     for (int c = 0; c < 3; ++c)
         for (int level = 0; level < 256; ++level) {
             sigma_s[c][level] = float(paper_sigma_s(level, c, p) * to_world);
-            sigma_a[c][level] = float(paper_sigma_a(level, p) * to_world);
+            sigma_a[c][level] = float(paper_sigma_a(level, c, p) * to_world);
         }
 }
 
@@ -74,6 +95,7 @@ MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& nois
             if (progress) progress->advance();
         }
     });
+    vol.optics.mean_level = mean_levels(vol.levels);
     return vol;
 }
 

@@ -253,7 +253,7 @@ const std::string kSmall = " --resolution 32 --width 48 --height 48 --spp 8 --fi
 const std::string kSmallRender = " --width 48 --height 48 --spp 8 ";
 
 std::string json_field(const std::string& json, const std::string& key) {
-    const auto at = json.find("\"" + key + "\"");
+    const auto at = json.find("\"" + key + "\":");  // a key, not a string value equal to it
     if (at == std::string::npos) return "";
     const auto colon = json.find(':', at);
     const auto end = json.find_first_of(",\n}", colon);
@@ -276,7 +276,7 @@ TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back
                          dir.file("photo.exr")).code == 0);
     const Result r = run(dir, "--photo " + dir.file("photo.png") + " --mesh " + kCow + " --volume " +
                                   dir.file("v.vdb") + " --env 0.02 --width 48 --height 48 --spp 4 "
-                                  "--fit-width 48 --exposure 1 --out " + dir.file("fit"));
+                                  "--fit bisect --fit-width 48 --exposure 1 --out " + dir.file("fit"));
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
@@ -299,17 +299,18 @@ TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back
 TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly", "[cli][fit]") {
     TempDir dir;
     const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
-    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 3 --out " +
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 6 --out " +
                                   dir.file("o"));
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv",
                           "compare.png", "report.json"})
         CHECK(std::filesystem::exists(dir.file(std::string("o/") + f)));
-    // Header + the two renders at the k_s bounds + at most one more (the cap is 3).
+    // The default fit (contrast) under a cap of 6: header + the two renders at
+    // the k_s bounds + none of the k_s search (it leaves 4 to the contrast) +
+    // two steps of a shading render and a render.
     const auto fit_rows = csv_rows(dir.file("o/fit.csv"));
-    CHECK(fit_rows.size() >= 3);
-    CHECK(fit_rows.size() <= 4);
+    CHECK(fit_rows.size() == 7);
     // The saved volume carries the fitted k_s: render it with another mesh.
     CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
                        " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);
@@ -319,9 +320,9 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
                                       dir.file("o/volume.vdb") + " --fit none --out " + dir.file("o2"));
     INFO(again.out << again.err);
     REQUIRE(again.code == 0);
-    auto printed_ks = [](const std::string& out) {  // "k_s = (r, g, b)" of the summary
+    auto printed_ks = [](const std::string& out) {  // "k_s = (r, g, b); contrast (r, g, b)" of the summary
         const auto at = out.find("k_s = (");
-        return at == std::string::npos ? std::string() : out.substr(at, out.find(')', at) - at);
+        return at == std::string::npos ? std::string() : out.substr(at, out.find(')', out.find("contrast (", at)) - at);
     };
     CHECK_FALSE(printed_ks(r.out).empty());
     CHECK(printed_ks(again.out) == printed_ks(r.out));
@@ -375,7 +376,7 @@ TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained result
         if (r.out.find("NOT converged") != std::string::npos)
             CHECK_THAT(r.err, Catch::Contains("warning: fit:"));
         else
-            CHECK_THAT(r.out, Catch::Contains("|dA| < 1 in every channel"));
+            CHECK_THAT(r.out, Catch::Contains("|dA| < 1 and |dS| < 1.5 in every channel"));
     }
 }
 
@@ -384,7 +385,7 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     TempDir dir;
     const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
     const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall +
-                                  " --fit-max-renders 3 --out " + dir.file("o"));
+                                  " --fit bisect --fit-max-renders 3 --out " + dir.file("o"));
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     auto same_pixels = [](const std::string& a, const std::string& b) {

@@ -55,6 +55,8 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.optics.da == b.optics.da);
     CHECK(a.optics.ks == b.optics.ks);
     CHECK(a.optics.density_scale == b.optics.density_scale);
+    CHECK(a.optics.contrast == b.optics.contrast);
+    CHECK(a.optics.mean_level == b.optics.mean_level);
     CHECK(a.cube.min == b.cube.min);
     CHECK(a.cube.side == b.cube.side);
     CHECK(a.photo == b.photo);
@@ -77,6 +79,30 @@ TEST_CASE("write -> read round trip is exact", "[vdb]") {
         write_material_vdb(dir.file("v.vdb"), v);
         require_same(v, read_material_vdb(dir.file("v.vdb")));
     }
+}
+
+TEST_CASE("the contrast travels in the file, and clipped voxels come back with the same coefficients", "[vdb]") {
+    TempDir dir;
+    OpticalParams optics;
+    optics.ks = {0.2, 0.1, 0.0};
+    optics.contrast = {2.5, 0.5, 1.0};  // red clips at both ends; green is squeezed
+    MaterialVolume v = sample_volume(16, optics);
+    write_material_vdb(dir.file("v.vdb"), v);
+    const MaterialVolume back = read_material_vdb(dir.file("v.vdb"));
+    CHECK(back.optics.contrast == v.optics.contrast);
+    CHECK(back.optics.mean_level == v.optics.mean_level);
+    const CoefficientTable table(v.optics, v.cube.side);
+    int clipped = 0;
+    for (std::size_t i = 0; i < v.levels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const int a = v.levels[i][c], b = back.levels[i][c];
+            CHECK(table.sigma_s[c][b] == Approx(table.sigma_s[c][a]).epsilon(1e-3).margin(1e-6));
+            CHECK(table.sigma_a[c][b] == Approx(table.sigma_a[c][a]).epsilon(1e-3).margin(1e-6));
+            const double vc = contrasted_level(a, c, v.optics);
+            if (vc > 0.0 && vc < 1.0 && c != 1) CHECK(a == b);  // unclipped, unsqueezed: the level itself
+            clipped += (vc == 0.0 || vc == 1.0);
+        }
+    CHECK(clipped > 0);
 }
 
 TEST_CASE("the noise's structure travels in the file and rebuilds the same levels", "[vdb]") {
@@ -142,7 +168,7 @@ TEST_CASE("plain OpenVDB sees four fog-volume grids with the documented names, t
         double mean_t = 0;
         for (int c = 0; c < 3; ++c) {
             const double want_s = paper_sigma_s(lv[c], c, v.optics) * 20.0 / 3.0;
-            const double want_a = paper_sigma_a(lv[c], v.optics) * 20.0 / 3.0;
+            const double want_a = paper_sigma_a(lv[c], c, v.optics) * 20.0 / 3.0;
             CHECK(s[c] == Approx(want_s).epsilon(1e-3).margin(1e-6));
             CHECK(a[c] == Approx(want_a).epsilon(1e-3).margin(1e-6));
             CHECK(alb[c] == Approx(want_s / (want_s + want_a)).epsilon(2e-3));

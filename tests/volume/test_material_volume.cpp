@@ -12,19 +12,41 @@ TEST_CASE("coefficients follow §5.1 exactly for known v_c", "[material_volume]"
     p.da = 0.1;
     // level 128 -> v_c = 0.5
     CHECK(paper_sigma_s(128, 0, p) == 0.5);
-    CHECK(paper_sigma_a(128, p) == Approx(0.05).epsilon(1e-15));
+    CHECK(paper_sigma_a(128, 0, p) == Approx(0.05).epsilon(1e-15));
     // level 0 -> v_c = 0; level 255 -> v_c = 255/256
     CHECK(paper_sigma_s(0, 1, p) == 0.0);
-    CHECK(paper_sigma_a(0, p) == Approx(0.1).epsilon(1e-15));
+    CHECK(paper_sigma_a(0, 0, p) == Approx(0.1).epsilon(1e-15));
     CHECK(paper_sigma_s(255, 2, p) == 255.0 / 256.0);
-    CHECK(paper_sigma_a(255, p) == Approx(0.1 / 256.0).epsilon(1e-12));
+    CHECK(paper_sigma_a(255, 0, p) == Approx(0.1 / 256.0).epsilon(1e-12));
 
     p.ds = 2.0;
     p.da = 0.3;
     p.ks = {0.25, -0.1, 0.0};
     CHECK(paper_sigma_s(64, 0, p) == Approx(0.25 * 2.0 + 0.25));
     CHECK(paper_sigma_s(64, 1, p) == Approx(0.25 * 2.0 - 0.1));
-    CHECK(paper_sigma_a(64, p) == Approx(0.75 * 2.0 * 0.3));
+    CHECK(paper_sigma_a(64, 0, p) == Approx(0.75 * 2.0 * 0.3));
+}
+
+TEST_CASE("the contrast stretches the levels about their mean and clips them to [0, 1]", "[material_volume]") {
+    OpticalParams p;
+    p.mean_level = {0.5, 0.25, 0.5};
+    p.contrast = {2.0, 3.0, 0.0};
+    CHECK(contrasted_level(160, 0, p) == Approx(0.75));   // 0.5 + 2 (0.625 - 0.5)
+    CHECK(contrasted_level(224, 0, p) == 1.0);            // 0.5 + 2 (0.875 - 0.5) clipped
+    CHECK(contrasted_level(32, 0, p) == 0.0);             // 0.5 + 2 (0.125 - 0.5) clipped
+    CHECK(contrasted_level(96, 1, p) == Approx(0.625));  // 0.25 + 3 (0.375 - 0.25)
+    CHECK(contrasted_level(17, 2, p) == 0.5);             // contrast 0: the mean level everywhere
+    p.contrast = {1.0, 1.0, 1.0};
+    CHECK(contrasted_level(17, 2, p) == 17 / 256.0);      // contrast 1: the paper's level, exactly
+    p.contrast = {2.0, 1.0, 1.0};
+    p.ds = 1.0, p.da = 0.5, p.ks = {0.1, 0.0, 0.0};
+    CHECK(paper_sigma_s(160, 0, p) == Approx(0.75 + 0.1));
+    CHECK(paper_sigma_a(160, 0, p) == Approx(0.25 * 0.5));
+    // The mean level of a volume's voxels.
+    const auto m = mean_levels({{0, 64, 255}, {128, 64, 1}});
+    CHECK(m[0] == Approx(64 / 256.0));
+    CHECK(m[1] == Approx(64 / 256.0));
+    CHECK(m[2] == Approx(128 / 256.0));
 }
 
 TEST_CASE("sigma_s is clamped at zero, sigma_a is not touched by k_s", "[material_volume]") {
@@ -34,7 +56,7 @@ TEST_CASE("sigma_s is clamped at zero, sigma_a is not touched by k_s", "[materia
     CHECK(paper_sigma_s(0, 0, p) == 0.0);
     CHECK(paper_sigma_s(64, 0, p) == 0.0);   // 0.25 - 0.3 < 0
     CHECK(paper_sigma_s(128, 0, p) == Approx(0.2));
-    CHECK(paper_sigma_a(64, p) == Approx(0.075));
+    CHECK(paper_sigma_a(64, 0, p) == Approx(0.075));
 }
 
 TEST_CASE("world coefficients are paper coefficients times density_scale / cube side",
@@ -44,7 +66,7 @@ TEST_CASE("world coefficients are paper coefficients times density_scale / cube 
     const CoefficientTable t(p, 2.0);
     for (int level : {0, 77, 255}) {
         CHECK(t.sigma_s[1][level] == Approx(paper_sigma_s(level, 1, p) * 15.0).epsilon(1e-6));
-        CHECK(t.sigma_a[2][level] == Approx(paper_sigma_a(level, p) * 15.0).epsilon(1e-6));
+        CHECK(t.sigma_a[2][level] == Approx(paper_sigma_a(level, 2, p) * 15.0).epsilon(1e-6));
     }
 }
 

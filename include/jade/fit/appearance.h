@@ -30,6 +30,13 @@ double render_pixels_per_side(const CameraParams& camera, const Cube& cube);
 // one cube side).
 TextureSpectrum photo_spectrum(const Photo& photo);
 
+// The photo's spread S per channel at a render's pixel scale: the photo is
+// box-averaged (in linear light) over blocks as wide as one render pixel's
+// footprint on the cube before S is taken, so that the texture finer than a
+// render pixel, which the render cannot show, does not count. At the photo's
+// own scale or finer it is the histogram's spread.
+std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_side);
+
 Appearance compare_appearance(const RgbHistogram& photo_histogram, const TextureSpectrum& photo_spectrum,
                               const DisplayStatistics& render, double render_pixels_per_side);
 

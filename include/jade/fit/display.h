@@ -44,6 +44,37 @@ struct DisplayStatistics {
 };
 DisplayStatistics display_statistics(const Film& film, float exposure);
 
+// d(display level)/d(linear value) of the sRGB curve at `linear` (0 at and
+// beyond 1, where the level is clipped): the delta method's factor from a
+// linear pixel's noise to its level's.
+double level_slope(double linear);
+
+// S_material(κ): the spread of levels the material itself puts into a render
+// (docs/design.md, "Appearance"). The photo is a flat scan, the render a lit
+// object whose shading (the light's falloff, the rim, the highlight) spreads
+// its levels as much as the stone does; S of the whole render cannot tell
+// the two apart. `shading` is the same render with the volume's mean medium
+// (contrast 0) under the same random numbers. Both are averaged over blocks
+// of block × block pixels (a fitting render's per-pixel noise is as large as
+// the stone's contrast; a block's is block times smaller), each block is
+// Each pixel is flattened, render / shading, scaled so that the flattened
+// image has the render's mean level A (where the renders share paths, their
+// noise cancels in the ratio); pixels whose shading is below 5 % of its mean (the
+// dark rim) are left out: their ratio says nothing. The flattened image is
+// averaged over blocks of block × block pixels (a fitting render's per-pixel
+// noise is as large as the stone's contrast; a block's is block times
+// smaller) and S is the spread of the blocks' levels. Compare it with
+// photo_spread at the block's scale.
+std::array<double, 3> material_spread(const Film& render, const Film& shading, float exposure, int block);
+
+// The flattened render itself as an image (its foreground: the pixels
+// flattened in every channel), e.g. to show or to test with.
+Photo flat_render(const Film& render, const Film& shading, float exposure);
+
+// The block for material_spread: the side, in pixels, over which a render of
+// this estimated relative error per pixel averages to 0.1 (at most 8).
+int material_block(double relative_error);
+
 // The exposure that gives the render's object pixels the photo's mean linear
 // luminance (Rec. 709 weights): the photo's absolute exposure is unknown, so
 // by default the fit matches it once, at its first render, and lets k_s

@@ -14,7 +14,14 @@
 
 namespace jade {
 
-enum class FitMethod { Step, Bisect, None };
+// step     the paper's k_s driver (Algorithm 2), A only
+// bisect   k_s for A by bracketing and bisection
+// contrast (default) bisect, then k_s and the contrast together for A and
+//          S_material (fit/fit_session.h; docs/design.md, "Contrast")
+// none     nothing fitted
+enum class FitMethod { Step, Bisect, Contrast, None };
+// Whether a method searches k_s by bisection (contrast does, first).
+inline bool bisects(FitMethod m) { return m == FitMethod::Bisect || m == FitMethod::Contrast; }
 const char* to_string(FitMethod m);
 FitMethod parse_fit_method(const std::string& name);  // throws jade::Error
 

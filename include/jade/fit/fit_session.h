@@ -1,9 +1,11 @@
 #pragma once
-// The fit of k_s to the photo as one object (paper §5.4; docs/design.md,
-// "The fit"): fitting renders of the material volume at explicit k_s (the
-// volume itself is never changed), the sample count they need, renders at
-// both k_s bounds that bracket the search and fix the exposure, a driver
-// that moves each channel, and an outcome with each channel's state.
+// The fit to the photo as one object (paper §5.4; docs/design.md, "The fit"
+// and "Contrast"): fitting renders of the material volume at explicit k_s
+// and contrast (the volume itself is never changed), the sample count they
+// need, renders at both k_s bounds that bracket the search and fix the
+// exposure, a driver that moves each channel's k_s until A matches, then
+// (--fit contrast) a joint search of k_s and the contrast g_c until A and
+// S_material match, and an outcome with each channel's state.
 //
 // Fitting renders leave the background out (only the object's pixels
 // count), render a reduced image with the same random sequence every time,
@@ -28,8 +30,10 @@
 namespace jade {
 
 struct FitOptions {
-    FitMethod method = FitMethod::Bisect;
+    FitMethod method = FitMethod::Contrast;
     std::optional<std::array<double, 3>> ks_start;  // default: the volume's own k_s
+    std::optional<std::array<double, 3>> contrast_start;  // default: the volume's own contrast
+    double s_tolerance = 1.5;   // |ΔS_material| goal of --fit contrast, gray levels
     int width = 0;              // fitting renders: 0 = a quarter of the camera's width (at least 32)
     int spp = 0;                // 0 = chosen by the first fitting render
     double noise = 0.3;         // standard error of A, gray levels, the chosen spp must reach
@@ -47,13 +51,23 @@ struct FitRecord {
     double seconds = 0.0;  // since fitting began
     int spp = 0;
     std::array<double, 3> ks{}, a_photo{}, a_render{}, a_sigma{}, delta{}, distance{};
+    std::array<double, 3> contrast{1, 1, 1};
     std::array<double, 3> s_photo{}, s_render{};   // spread S of the levels (fit/appearance.h)
+    // S_material (fit/display.h) and the photo's S at the scale of its blocks
+    // (fit/appearance.h); -1 where no shading render was made.
+    std::array<double, 3> s_material{-1, -1, -1}, s_photo_scaled{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
+    bool shading = false;                          // a render of the mean medium (contrast 0), not a fit step
 };
 
 struct FitOutcome {
     std::array<double, 3> ks{};           // fitted: the best found per channel
     std::array<double, 3> ks_start{};
+    std::array<double, 3> contrast{1, 1, 1}, contrast_start{1, 1, 1};
+    // S_material and the photo's S at the fitting scale at the chosen k_s and
+    // contrast (--fit contrast only; -1 otherwise).
+    std::array<double, 3> s_material{-1, -1, -1}, s_photo{-1, -1, -1};
+    int material_block = 0;               // pixels per side of the blocks S_material is taken over
     std::array<ChannelState, 3> state{};
     std::array<std::string, 3> reason;    // why a channel stopped unconverged
     bool converged = false;
@@ -73,20 +87,25 @@ public:
                const RenderSettings& settings, const Photo& photo, const FitOptions& options);
     // The smallest k_s per channel: σ_s = v·d_s + k_s reaches 0 in the lowest voxel.
     const FitLimits& limits() const { return limits_; }
-    // A fitting render at `ks` with `spp` samples per pixel.
-    RenderResult render_at(const std::array<double, 3>& ks, int spp) const;
+    // A fitting render at `ks` and `contrast` with `spp` samples per pixel.
+    RenderResult render_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp) const;
     FitOutcome run(Progress* progress = nullptr);
 
 private:
-    RenderResult fitting_render(const std::array<double, 3>& ks);
-    std::array<double, 3> record(const std::array<double, 3>& ks, const Film& film);
+    RenderResult fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
+    FitRecord& record(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, const Film& film);
     void bracket(FitDriver& driver);
     void finish(const FitDriver& driver);
+    void fit_contrast();
+    std::array<double, 3> brightness_slopes() const;
+    double k_min_at(int channel, double contrast) const;
+    int fitting_renders() const;
 
     const MaterialVolume& volume_;
     const Scene& scene_;
     const Photo& photo_;
     FitOptions options_;
+    std::array<int, 3> lowest_level_;   // per channel, over the volume's voxels
     FitLimits limits_;
     PinholeCamera camera_;
     RenderSettings settings_;

@@ -4,13 +4,21 @@
 // derived from it.
 //
 //   v_c   = level / 256                          (per channel, in [0, 1))
-//   σ_s   = max(0, v_c · d_s + k_s)              (paper units)
-//   σ_a   = (1 − v_c) · d_s · d_a
+//   v'_c  = clamp(m_c + g_c · (v_c − m_c), 0, 1) (contrast g_c about the mean level m_c)
+//   σ_s   = max(0, v'_c · d_s + k_s)             (paper units)
+//   σ_a   = (1 − v'_c) · d_s · d_a
 //   world = paper · density_scale / cube side    (per world unit; docs/design.md, "Units")
 //
+// At g_c = 1 (the default) v' = v and the formulas are the paper's §5.1. The
+// contrast is the fit's second lever (docs/design.md, "Contrast"): k_s adds
+// the same scattering to every voxel and so washes the structure out; g_c
+// stretches the levels about their mean (as an image editor's contrast does,
+// clipped to the level range), which changes the spread of the render and
+// hardly its mean. g_c = 0 is the homogeneous medium of the mean level.
+//
 // Only the levels are stored (3 bytes a voxel): the coefficients are a
-// function of a level and five scalars, so changing k_s, d_a or the scale
-// rebuilds nothing.
+// function of a level and a few scalars, so changing k_s, the contrast, d_a
+// or the scale rebuilds nothing.
 
 #include "jade/core/bounds.h"
 #include "jade/volume/color_match.h"
@@ -30,6 +38,8 @@ struct OpticalParams {
     double ds = 1.0;                      // d_s, scattering scale
     double da = 1.0;                      // d_a, absorption scale (the paper: 0.1; README: "Defaults")
     std::array<double, 3> ks{0, 0, 0};    // k_s(R, G, B), the fitted offsets
+    std::array<double, 3> contrast{1, 1, 1};   // g_c, >= 0; 1 = the paper's levels
+    std::array<double, 3> mean_level{0.5, 0.5, 0.5};  // m_c in [0, 1]: the volume's mean v_c
     // Optical thickness across the object's cube for a paper coefficient of 1.
     double density_scale = 20.0;
 
@@ -56,9 +66,17 @@ struct MaterialVolume {
     double voxel_size() const { return cube.side / resolution; }
 };
 
-// Paper-unit coefficients for one channel's level (§5.1).
+// The largest contrast the fit tries and a file may hold: at 16 nearly every
+// voxel is clipped to 0 or 1 already.
+constexpr double kMaxContrast = 16.0;
+
+// v'_c of a level after the channel's contrast (above).
+double contrasted_level(int level, int channel, const OpticalParams& p);
+// Paper-unit coefficients for one channel's level (§5.1, with the contrast).
 double paper_sigma_s(int level, int channel, const OpticalParams& p);
-double paper_sigma_a(int level, const OpticalParams& p);
+double paper_sigma_a(int level, int channel, const OpticalParams& p);
+// The mean v_c per channel over the volume's voxels (OpticalParams::mean_level).
+std::array<double, 3> mean_levels(const std::vector<Rgb8>& levels);
 
 // World-unit coefficients for every level and channel: a 256-entry table per
 // channel, so turning levels into coefficients is a lookup.

@@ -1,0 +1,163 @@
+// The contrast lever and S_material (docs/design.md, "Contrast"): the
+// spread measure against images of known spread, and a round trip in which a
+// known volume at a known (k_s, contrast) renders the "photo" and the fit
+// started from (0, 1) gives both back.
+
+#include "jade/core/display.h"
+#include "jade/fit/appearance.h"
+#include "jade/fit/display.h"
+#include "jade/fit/fit_session.h"
+#include "jade/geometry/mesh.h"
+#include "jade/geometry/mesh_accel.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numeric>
+
+using namespace jade;
+
+namespace {
+
+// The population spread of a set of values.
+double spread_of(const std::vector<double>& v) {
+    double s = 0, s2 = 0;
+    for (double x : v) s += x, s2 += x * x;
+    const double m = s / v.size();
+    return std::sqrt(s2 / v.size() - m * m);
+}
+
+// A film whose every pixel holds `value(x, y)` exactly (two equal samples: no variance).
+template <class F>
+Film exact_film(int w, int h, F value) {
+    Film f(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int i = 0; i < 2; ++i) f.add_sample(x, y, value(x, y), true);
+    return f;
+}
+
+}  // namespace
+
+TEST_CASE("material spread: the shading divides out, the material's spread stays", "[fitter][contrast]") {
+    const int w = 40, h = 30;
+    // Shading: a ramp from 0.2 to 1 across the image; material: stripes of two albedos.
+    auto shade = [&](int x, int) { return 0.2 + 0.8 * x / (w - 1.0); };
+    auto stripe = [](int, int y) { return (y / 3) % 2 ? 0.25 : 0.45; };
+    const Film shading = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * 0.35)); });
+    const Film render = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * stripe(x, y))); });
+
+    // Against the same medium the material adds nothing.
+    const auto none = material_spread(shading, shading, 1.f, 1);
+    for (int c = 0; c < 3; ++c) CHECK(none[c] == Approx(0.0).margin(1e-3));  // float rounding of the ratio
+
+    // Flattened pixel: stripe × c, with c such that the mean level is the render's.
+    double target = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) target += 255.0 * srgb_encode(shade(x, y) * stripe(x, y)) / (w * h);
+    auto levels_at = [&](double scale) {
+        std::vector<double> levels;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) levels.push_back(255.0 * srgb_encode(stripe(x, y) * scale));
+        return levels;
+    };
+    double lo = 0.0, hi = 2.0;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        const auto l = levels_at(mid);
+        (std::accumulate(l.begin(), l.end(), 0.0) / l.size() < target ? lo : hi) = mid;
+    }
+    const std::vector<double> levels = levels_at(0.5 * (lo + hi));
+    const auto s = material_spread(render, shading, 1.f, 1);
+    for (int c = 0; c < 3; ++c) CHECK(s[c] == Approx(spread_of(levels)).epsilon(1e-4));
+    // The whole render's spread is far larger: the ramp counts there.
+    const DisplayStatistics whole = display_statistics(render, 1.f);
+    CHECK(whole.s[0] > 1.5 * s[0]);
+}
+
+TEST_CASE("photo spread at a coarser scale averages the finer texture away", "[fitter][contrast]") {
+    Photo p;
+    p.width = p.height = 64;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const std::uint8_t l = ((x + y) % 2) ? 200 : 40;  // a one-pixel checkerboard
+            p.levels.push_back({l, l, l});
+        }
+    p.foreground.assign(p.levels.size(), 1);
+    const auto fine = photo_spread(p, 64.0);  // the photo's own scale: its histogram's spread
+    CHECK(fine[0] == Approx(80.0));
+    const auto coarse = photo_spread(p, 16.0);  // 4×4 blocks: every block the same
+    CHECK(coarse[0] == Approx(0.0).margin(0.5));
+}
+
+TEST_CASE("material block: the side over which a render's noise averages to 0.1", "[fitter][contrast]") {
+    CHECK(material_block(0.05) == 1);
+    CHECK(material_block(0.4) == 4);
+    CHECK(material_block(0.41) == 5);
+    CHECK(material_block(3.0) == 8);
+}
+
+namespace {
+
+// A stone-like photo to build the volume from: a ramp of warm colours.
+Photo ramp_photo() {
+    Photo p;
+    p.width = p.height = 32;
+    for (int i = 0; i < 32 * 32; ++i) {
+        const int l = 40 + (i * 190) / (32 * 32);
+        p.levels.push_back({std::uint8_t(l + 20), std::uint8_t(l), std::uint8_t(l - 20)});
+    }
+    p.foreground.assign(p.levels.size(), 1);
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("contrast fit: a render at a known k_s and contrast, fitted from (0, 1), gives both back",
+          "[fitter][contrast][fit-session]") {
+    const TriangleMesh mesh = icosphere(3, 1.f);
+    const MeshAccel accel(mesh);
+    Scene scene;
+    scene.boundary = &accel;
+    scene.fit_ray_epsilon();
+    scene.light = DirectionalLight({0.3f, 0.5f, 1.f}, 3.f, 20.f);
+    scene.environment = Environment(Spectrum(0.02f));
+    CameraParams camera;
+    camera.origin = {0.f, 0.f, 4.f};
+    camera.width = camera.height = 64;
+
+    NoiseParams noise;
+    noise.resolution = 16;
+    MaterialVolume volume = build_material_volume(ramp_photo(), noise, MatchMode::Joint, OpticalParams{});
+    volume.cube = bounding_cube(mesh);
+    RenderSettings settings;
+
+    const std::array<double, 3> k_true{0.5, 0.3, 0.1}, g_true{2.5, 1.6, 3.2};
+    const float exposure = 4.f;
+    FitOptions make;
+    make.width = camera.width;
+    make.exposure = exposure;
+    const Photo dummy = ramp_photo();
+    const FitSession maker(volume, scene, camera, settings, dummy, make);
+    // The material as a flat scan would show it: the render flattened by its shading.
+    const Photo photo = flat_render(maker.render_at(k_true, g_true, 2048).film,
+                                  maker.render_at(k_true, {0, 0, 0}, 2048).film, exposure);
+
+    FitOptions options = make;
+    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
+    options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
+    options.spp = 256;
+    options.max_renders = 24;
+    FitSession session(volume, scene, camera, settings, photo, options);
+    const FitOutcome out = session.run();
+    INFO("k_s " << out.ks[0] << ", " << out.ks[1] << ", " << out.ks[2] << "; contrast " << out.contrast[0] << ", "
+                << out.contrast[1] << ", " << out.contrast[2] << " in " << out.records.size() << " renders; S "
+                << out.s_material[0] << ", " << out.s_material[1] << ", " << out.s_material[2] << " against "
+                << out.s_photo[0] << ", " << out.s_photo[1] << ", " << out.s_photo[2]);
+    REQUIRE(out.converged);
+    CHECK(out.records.size() <= 24);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(std::abs(out.contrast[c] - g_true[c]) < 0.2 * g_true[c]);
+        CHECK(std::abs(out.ks[c] - k_true[c]) < 0.15);
+    }
+}
