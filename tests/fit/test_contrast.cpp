@@ -9,6 +9,7 @@
 #include "jade/fit/fit_session.h"
 #include "jade/geometry/mesh.h"
 #include "jade/geometry/mesh_accel.h"
+#include "support/fit_test_scene.h"
 
 #include <catch2/catch.hpp>
 
@@ -97,39 +98,12 @@ TEST_CASE("material block: the side over which a render's noise averages to 0.1"
     CHECK(material_block(3.0) == 8);
 }
 
-namespace {
-
-// A stone-like photo to build the volume from: a ramp of warm colours.
-Photo ramp_photo() {
-    Photo p;
-    p.width = p.height = 32;
-    for (int i = 0; i < 32 * 32; ++i) {
-        const int l = 40 + (i * 190) / (32 * 32);
-        p.levels.push_back({std::uint8_t(l + 20), std::uint8_t(l), std::uint8_t(l - 20)});
-    }
-    p.foreground.assign(p.levels.size(), 1);
-    return p;
-}
-
-}  // namespace
-
 TEST_CASE("contrast fit: a render at a known k_s and contrast, fitted from (0, 1), gives both back",
           "[fitter][contrast][fit-session]") {
-    const TriangleMesh mesh = icosphere(3, 1.f);
-    const MeshAccel accel(mesh);
-    Scene scene;
-    scene.boundary = &accel;
-    scene.fit_ray_epsilon();
-    scene.light = DirectionalLight({0.3f, 0.5f, 1.f}, 3.f, 20.f);
-    scene.environment = Environment(Spectrum(0.02f));
-    CameraParams camera;
-    camera.origin = {0.f, 0.f, 4.f};
-    camera.width = camera.height = 64;
-
-    NoiseParams noise;
-    noise.resolution = 16;
-    MaterialVolume volume = build_material_volume(ramp_photo(), noise, MatchMode::Joint, OpticalParams{});
-    volume.cube = bounding_cube(mesh);
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 64);
+    const Scene& scene = t.scene;
+    const CameraParams& camera = t.camera;
+    const MaterialVolume& volume = t.volume;
     RenderSettings settings;
 
     const std::array<double, 3> k_true{0.5, 0.3, 0.1}, g_true{2.5, 1.6, 3.2};
@@ -137,7 +111,7 @@ TEST_CASE("contrast fit: a render at a known k_s and contrast, fitted from (0, 1
     FitOptions make;
     make.width = camera.width;
     make.exposure = exposure;
-    const Photo dummy = ramp_photo();
+    const Photo dummy = test::ramp_photo(40, 190, 20);
     const FitSession maker(volume, scene, camera, settings, dummy, make);
     // The material as a flat scan would show it: the render flattened by its shading.
     const Photo photo = flat_render(maker.render_at(k_true, g_true, 2048).film,

@@ -6,6 +6,7 @@
 #include "jade/fit/fit_session.h"
 #include "jade/geometry/mesh.h"
 #include "jade/geometry/mesh_accel.h"
+#include "support/fit_test_scene.h"
 
 #include <catch2/catch.hpp>
 
@@ -14,18 +15,6 @@
 using namespace jade;
 
 namespace {
-
-// A stone-like photo to build the volume from: a ramp of warm colours.
-Photo ramp_photo() {
-    Photo p;
-    p.width = p.height = 32;
-    for (int i = 0; i < 32 * 32; ++i) {
-        const int l = 60 + (i * 150) / (32 * 32);
-        p.levels.push_back({std::uint8_t(l + 30), std::uint8_t(l), std::uint8_t(l - 30)});
-    }
-    p.foreground.assign(p.levels.size(), 1);
-    return p;
-}
 
 // The render's object pixels as a photo (display levels at `exposure`).
 Photo photo_of(const Film& film, float exposure) {
@@ -45,21 +34,10 @@ Photo photo_of(const Film& film, float exposure) {
 }  // namespace
 
 TEST_CASE("fit session: a render at a known k_s, fitted from 0, gives that k_s back", "[fitter][fit-session]") {
-    const TriangleMesh mesh = icosphere(3, 1.f);
-    const MeshAccel accel(mesh);
-    Scene scene;
-    scene.boundary = &accel;
-    scene.fit_ray_epsilon();
-    scene.light = DirectionalLight({0.3f, 0.5f, 1.f}, 3.f, 20.f);
-    scene.environment = Environment(Spectrum(0.02f));
-    CameraParams camera;
-    camera.origin = {0.f, 0.f, 4.f};
-    camera.width = camera.height = 48;
-
-    NoiseParams noise;
-    noise.resolution = 16;
-    MaterialVolume volume = build_material_volume(ramp_photo(), noise, MatchMode::Joint, OpticalParams{});
-    volume.cube = bounding_cube(mesh);
+    test::FitTestScene t(test::ramp_photo(60, 150, 30), 48);
+    const Scene& scene = t.scene;
+    const CameraParams& camera = t.camera;
+    const MaterialVolume& volume = t.volume;
     RenderSettings settings;
     settings.spp = 64;
 
@@ -70,7 +48,7 @@ TEST_CASE("fit session: a render at a known k_s, fitted from 0, gives that k_s b
     FitOptions make;
     make.width = camera.width;
     make.exposure = exposure;
-    const Photo dummy = ramp_photo();
+    const Photo dummy = test::ramp_photo(60, 150, 30);
     const FitSession maker(volume, scene, camera, settings, dummy, make);
     const Photo photo = photo_of(maker.render_at(truth, {1.0, 1.0, 1.0}, 2048).film, exposure);
 
