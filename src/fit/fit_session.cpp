@@ -312,7 +312,8 @@ void FitSession::fit_contrast() {
                 outcome_.contrast[c] = g[c];
                 outcome_.s_material[c] = s_mat[c];
             }
-            if (done[c] || (done[c] = score < 1.0)) continue;
+            if (score < 1.0) done[c] = true;
+            if (done[c]) continue;
             all_done = false;
             const double g_next = next_contrast(g[c], s_mat[c], s_photo[c], have_prev, g_prev[c], s_prev[c]);
             g_prev[c] = g[c];
