@@ -26,12 +26,25 @@
 
 namespace {
 
+// "x,y,z" (or one number for all three) as a CLI11 validator + converter.
+struct Vec3Flag {
+    std::string text;
+    bool given() const { return !text.empty(); }
+    glm::vec3 value(const char* flag) const {
+        jade::Spectrum v;
+        if (!jade::parse_vec3(text, v))
+            throw jade::Error(std::string(flag) + " expects x,y,z (or one number), not '" + text + "'");
+        return v;
+    }
+};
+
 struct VolumeOptions {
     std::string photo, mask, out, preview;
     jade::NoiseParams noise;
     std::string structure = "photo";
     std::string match = "joint";
     jade::OpticalParams optics;
+    Vec3Flag contrast;  // `volume --contrast`
 };
 
 void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = true) {
@@ -76,9 +89,13 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
 }
 
-int run_volume(const VolumeOptions& o) {
+int run_volume(VolumeOptions& o) {
     const jade::Stopwatch total;
     const jade::MatchMode match = jade::parse_match_mode(o.match);
+    if (o.contrast.given()) {
+        const glm::vec3 g = o.contrast.value("--contrast");
+        o.optics.contrast = {g.x, g.y, g.z};
+    }
     o.noise.validate();
     o.optics.validate();
     // Refuse a missing output folder now, not after seconds of work.
@@ -110,9 +127,10 @@ int run_volume(const VolumeOptions& o) {
                     "fBm: %.3f); orientation strength %.2f, coherence %.2f (photo: %.2f, %.2f)\n",
                     estimate.seconds, estimate.chosen.distance, estimate.paper.distance, estimate.chosen.strength,
                     estimate.chosen.coherence, estimate.photo.strength, estimate.photo.coherence);
-    if (!o.preview.empty())
-        jade::write_image_u8(o.preview, volume.resolution, volume.resolution, 3,
-                             jade::slice_image(volume, volume.resolution / 2));
+    if (!o.preview.empty()) {
+        const jade::RgbImage8 slice = jade::slice_image(volume, volume.resolution / 2);
+        jade::write_image_u8(o.preview, slice.width, slice.height, 3, slice.pixels);
+    }
 
     std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s: frequency %.2f, "
                 "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f; photo %.2f s, "
@@ -125,23 +143,12 @@ int run_volume(const VolumeOptions& o) {
     return 0;
 }
 
-// "x,y,z" (or one number for all three) as a CLI11 validator + converter.
-struct Vec3Flag {
-    std::string text;
-    bool given() const { return !text.empty(); }
-    glm::vec3 value(const char* flag) const {
-        jade::Spectrum v;
-        if (!jade::parse_vec3(text, v))
-            throw jade::Error(std::string(flag) + " expects x,y,z (or one number), not '" + text + "'");
-        return v;
-    }
-};
 
 struct RenderFlags {
     std::string job_file;
     jade::RenderJob job;
     std::string boundary = "split";
-    Vec3Flag sigma_s, sigma_a, ks, vdb_albedo, origin, target, up, light_dir;
+    Vec3Flag sigma_s, sigma_a, ks, contrast, vdb_albedo, origin, target, up, light_dir;
 };
 
 // `render --job FILE`: the job is read before the flags are parsed, so that
@@ -182,6 +189,8 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
                    "Homogeneous medium instead of --volume: scattering per world unit, r,g,b");
     cmd.add_option("--sigma-a", f.sigma_a.text, "Homogeneous medium: absorption per world unit, r,g,b");
     cmd.add_option("--ks", f.ks.text, "Override the jaderender volume's fitted k_s, r,g,b");
+    cmd.add_option("--contrast", f.contrast.text,
+                   "Override the jaderender volume's fitted contrast, r,g,b (0..16; 1 = the paper's levels)");
     cmd.add_option("--vdb-density-scale", j.density.scale,
                    "Foreign .vdb density grid: sigma_t = scale * density")
         ->capture_default_str();
@@ -264,6 +273,10 @@ void resolve_flags(RenderFlags& f) {
     if (f.ks.given()) {
         const glm::vec3 k = f.ks.value("--ks");
         j.ks = std::array<float, 3>{k.x, k.y, k.z};
+    }
+    if (f.contrast.given()) {
+        const glm::vec3 g = f.contrast.value("--contrast");
+        j.contrast = std::array<float, 3>{g.x, g.y, g.z};
     }
     if (f.vdb_albedo.given()) j.density.albedo = f.vdb_albedo.value("--vdb-albedo");
     if (f.origin.given()) j.camera_origin = f.origin.value("--camera-origin");
@@ -348,6 +361,9 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit-spp-max", o.fit.spp_max, "Most samples per pixel a fitting render doubles to")
         ->capture_default_str();
     app.add_option("--fit-max-renders", o.fit.max_renders, "Most fitting renders")->capture_default_str();
+    app.add_flag("--measure-material", o.measure_material,
+                 "Also render the final render's shading (the mean medium) and report the material's S and D "
+                 "against the photo with the shading divided out (about one more final render)");
     app.add_option("--ks-max", o.fit.k_max, "Largest k_s the fit tries")->capture_default_str();
     app.add_option("--exposure", o.fit.exposure, "Render-to-photo exposure factor before the sRGB encoding "
                                              "(0 = the middle of the range where every channel can reach the photo, from the "
@@ -415,6 +431,13 @@ int run_pipeline(PipelineFlags& p) {
                 look.a_render[0], look.a_render[1], look.a_render[2], look.a_photo[0], look.a_photo[1], look.a_photo[2],
                 look.s_render[0], look.s_render[1], look.s_render[2], look.s_photo[0], look.s_photo[1],
                 look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure);
+    if (r.material)
+        std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
+                    "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f; shading render %.1f s\n",
+                    r.material->block, r.material->s_material[0], r.material->s_material[1],
+                    r.material->s_material[2], r.material->s_photo[0], r.material->s_photo[1],
+                    r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2],
+                    r.material->structure, r.seconds_shading);
     if (r.structure_estimated)
         std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
                     "bands %.1f, warp %.2f; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",
@@ -433,11 +456,12 @@ int run_pipeline(PipelineFlags& p) {
 }
 
 struct BenchCommands {
-    CLI::App *bench, *volume, *render;
+    CLI::App *bench, *volume, *render, *fidelity;
 };
 
 // `jaderender bench volume|render` and their flags.
-BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench, jade::RenderBenchOptions& rbench) {
+BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench, jade::RenderBenchOptions& rbench,
+                                 jade::FidelityBenchOptions& fbench) {
     auto* cmd = app.add_subcommand(
         "bench", "Benchmarks: time, throughput, error against time and peak memory");
     cmd->require_subcommand(1);
@@ -465,7 +489,18 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
     bench_render->add_option("--max-seconds", rbench.max_seconds, "Time budget")
         ->capture_default_str();
 
-    return {cmd, bench_volume, bench_render};
+    auto* fidelity = cmd->add_subcommand(
+        "fidelity", "The paper's method and the default on one photo and mesh: A, S, D (whole render and "
+                    "material), structure, renders and seconds, and D(default)/D(paper)");
+    fidelity->add_option("--photo", fbench.photo, "Photograph of the material")->required();
+    fidelity->add_option("--mask", fbench.mask, "Mask image (white = object)");
+    fidelity->add_option("--mesh", fbench.mesh, "The object's surface")->required();
+    fidelity->add_option("--out", fbench.out_dir, "Folder for both results (default/ and paper/)")
+        ->capture_default_str();
+    fidelity->add_option("--resolution", fbench.resolution, "Voxels along each side")->capture_default_str();
+    fidelity->add_option("--width", fbench.width, "Final render width")->capture_default_str();
+    fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
+    return {cmd, bench_volume, bench_render, fidelity};
 }
 
 // Parses the command line: -1 to go on, else the exit code (0 after --help
@@ -511,6 +546,8 @@ int main(int argc, char** argv) {
                   "coefficients) and write it as .vdb");
     add_volume_flags(*volume_cmd, vol);
     volume_cmd->add_option("--out", vol.out, "Output .vdb file")->required();
+    volume_cmd->add_option("--contrast", vol.contrast.text,
+                           "Contrast of the levels about their mean, r,g,b (0..16; default 1, the paper's)");
     volume_cmd->add_option("--preview", vol.preview,
                            "Also write the middle slice of the matched noise as an image");
 
@@ -527,9 +564,10 @@ int main(int argc, char** argv) {
 
     jade::VolumeBenchOptions bench;
     jade::RenderBenchOptions rbench;
-    const BenchCommands benches = add_bench_commands(app, bench, rbench);
+    jade::FidelityBenchOptions fbench;
+    const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench);
 
-    for (CLI::App* cmd : {volume_cmd, render_cmd, benches.bench, benches.volume, benches.render})
+    for (CLI::App* cmd : {volume_cmd, render_cmd, benches.bench, benches.volume, benches.render, benches.fidelity})
         add_threads(*cmd);
 
     if (const int code = parse_flags(app, argc, argv); code >= 0) return code;
@@ -545,6 +583,7 @@ int main(int argc, char** argv) {
         if (*render_cmd) return run_render(render_flags);
         if (*benches.volume) return jade::run_volume_benchmark(bench);
         if (*benches.render) return jade::run_render_benchmark(rbench);
+        if (*benches.fidelity) return jade::run_fidelity_benchmark(fbench);
     } catch (const jade::Error& e) {
         std::fprintf(stderr, "jaderender: error: %s\n", e.what());
         return 2;

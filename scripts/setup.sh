@@ -10,6 +10,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
   libtinygltf-dev libopenvdb-dev libboost-iostreams-dev libopencv-core-dev catch2
   libtbb-dev libtinyobjloader-dev nlohmann-json3-dev libstb-dev libcli11-dev
+  fonts-dejavu-core
 )
 
 missing=()

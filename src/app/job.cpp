@@ -63,6 +63,7 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
                    {"vdb_density_scale", job.density.scale},
                    {"vdb_albedo", vec(job.density.albedo)}};
     if (job.ks) medium["ks"] = *job.ks;
+    if (job.contrast) medium["contrast"] = *job.contrast;
     if (job.sigma_s) medium["sigma_s"] = vec(*job.sigma_s);
     if (job.sigma_a) medium["sigma_a"] = vec(*job.sigma_a);
     json camera = {{"file", stored_path(job.camera_file, base_dir)}, {"up", vec(job.camera_up)},
@@ -108,11 +109,12 @@ void read_scene_and_medium(const json& j, RenderJob& job, const std::string& fil
     read(medium, "volume", job.volume, file, "medium");
     read(medium, "vdb_density_scale", job.density.scale, file, "medium");
     read_vec(medium, "vdb_albedo", job.density.albedo, file, "medium");
-    if (medium.contains("ks")) {
-        std::array<float, 3> k{};
-        read(medium, "ks", k, file, "medium");
-        job.ks = k;
-    }
+    for (auto [key, target] : {std::pair{"ks", &job.ks}, std::pair{"contrast", &job.contrast}})
+        if (medium.contains(key)) {
+            std::array<float, 3> v{};
+            read(medium, key, v, file, "medium");
+            *target = v;
+        }
     for (auto [key, target] : {std::pair{"sigma_s", &job.sigma_s}, std::pair{"sigma_a", &job.sigma_a}})
         if (medium.contains(key)) {
             glm::vec3 v(0.f);

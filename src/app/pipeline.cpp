@@ -11,6 +11,7 @@
 #include "jade/render/media/grid.h"
 #include "jade/volume/photo.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -61,17 +62,32 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     return volume;
 }
 
-RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, const MaterialVolume& volume) {
-    const MaterialVolumeMedium medium(volume, volume.cube);
+// The final render; with `majorant_floor` (and the volume's optics changed)
+// a render that shares its random numbers and tentative collisions.
+RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, const MaterialVolumeMedium& medium,
+                          const char* label) {
     Scene scene = prep.scene;
     scene.medium = &medium;
     RenderSettings settings = o.render.settings;
     settings.backdrop = prep.backdrop;
     std::unique_ptr<Progress> bar;
     if (o.progress)
-        bar = std::make_unique<Progress>("final render", std::size_t(prep.camera.width) *
-                                                             prep.camera.height * settings.spp);
+        bar = std::make_unique<Progress>(label, std::size_t(prep.camera.width) * prep.camera.height * settings.spp);
     return render(scene, PinholeCamera(prep.camera), settings, bar.get());
+}
+
+// The final render's shading render and the material measured with it.
+MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScene& prep,
+                                    const MaterialVolume& volume, const Photo& photo, PipelineResult& res) {
+    const Stopwatch clock;
+    const Spectrum majorant = MaterialVolumeMedium(volume, volume.cube).majorant();
+    OpticalParams mean_medium = volume.optics;
+    mean_medium.contrast = {0.0, 0.0, 0.0};
+    const MaterialVolumeMedium medium(volume, volume.cube, mean_medium, majorant);
+    const RenderResult shading = final_render(o, prep, medium, "shading render");
+    res.seconds_shading = clock.seconds();
+    return compare_material(photo, res.final_render.film, shading.film, float(res.fit.exposure),
+                            render_pixels_per_side(prep.camera, volume.cube));
 }
 
 // The final render as a job that replays it from the written volume, with the
@@ -81,6 +97,7 @@ RenderJob replay_job(const PipelineOptions& o, const PreparedScene& prep, const 
     RenderJob job = o.render;
     job.volume = (fs::path(dir) / "volume.vdb").string();
     job.ks.reset();
+    job.contrast.reset();
     job.sigma_s.reset();
     job.sigma_a.reset();
     job.camera_file.clear();
@@ -112,7 +129,16 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
     res.final_look = compare_appearance(photo_histogram, photo_spectrum(photo), final_stats,
                                         render_pixels_per_side(prep.camera, volume.cube));
-    const RgbImage8 cmp = compare_image(photo, res.final_render.film, exposure, photo_histogram, final_stats.histogram);
+    const RgbImage8 slice = slice_image(volume, volume.resolution / 2);
+    char render_caption[96] = "render";
+    if (!res.final_render.passes.empty()) {
+        const PassRecord& last = res.final_render.passes.back();
+        std::snprintf(render_caption, sizeof render_caption, "render %d spp, error %.2f", last.spp,
+                      last.estimated_error);
+    }
+    const RgbImage8 cmp = compare_image({photo, res.final_render.film, exposure, slice, photo_histogram,
+                                         final_stats.histogram, render_caption,
+                                         "slice z = " + std::to_string(volume.resolution / 2)});
     write_image_u8(out("compare.png"), cmp.width, cmp.height, 3, cmp.pixels);
     for (const char* name : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "compare.png"})
         res.written.push_back(out(name));
@@ -162,8 +188,9 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     volume.exposure = res.fit.exposure;
 
     clock = Stopwatch();
-    res.final_render = final_render(o, *prep, volume);
+    res.final_render = final_render(o, *prep, MaterialVolumeMedium(volume, volume.cube), "final render");
     res.seconds_render = clock.seconds();
+    if (o.measure_material) res.material = measure_material(o, *prep, volume, photo, res);
 
     res.seconds_total = total.seconds();
     write_outputs(o, res, volume, photo, *prep);

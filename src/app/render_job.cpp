@@ -35,6 +35,8 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         throw Error("--exposure must be a finite number >= 0 (0: the volume's fitted one, or 1)");
     if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
         throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
+    if (job.volume.empty() && (job.ks || job.contrast))
+        throw Error("--ks and --contrast apply to a jaderender --volume, not to a homogeneous medium");
     require_output_folder(job.out);
     RenderJobResult result;
     result.exposure = job.exposure > 0.f ? job.exposure : 1.f;
@@ -50,17 +52,21 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         if (is_material_vdb(job.volume)) {
             volume = read_material_vdb(job.volume);
             if (job.ks) volume.optics.ks = {(*job.ks)[0], (*job.ks)[1], (*job.ks)[2]};
+            if (job.contrast) volume.optics.contrast = {(*job.contrast)[0], (*job.contrast)[1], (*job.contrast)[2]};
             volume.optics.validate();
             char text[256];
             std::snprintf(text, sizeof text,
-                          "jaderender volume %d^3 on the mesh's cube (side %.4g), k_s (%.3f, %.3f, %.3f)",
+                          "jaderender volume %d^3 on the mesh's cube (side %.4g), k_s (%.3f, %.3f, %.3f), "
+                          "contrast (%.3f, %.3f, %.3f)",
                           volume.resolution, cube.side, volume.optics.ks[0], volume.optics.ks[1],
-                          volume.optics.ks[2]);
+                          volume.optics.ks[2], volume.optics.contrast[0], volume.optics.contrast[1],
+                          volume.optics.contrast[2]);
             result.medium_description = text;
             if (job.exposure == 0.f && volume.exposure > 0.0) result.exposure = float(volume.exposure);
             medium = std::make_unique<MaterialVolumeMedium>(volume, cube);
         } else {
             if (job.ks) fail_file(job.volume, "--ks applies to jaderender volumes only");
+            if (job.contrast) fail_file(job.volume, "--contrast applies to jaderender volumes only");
             CoefficientGrids grids = read_medium_vdb(job.volume, job.density);
             const auto& s = grids.placement.size;
             result.medium_description = "grids " + std::to_string(s[0]) + "x" + std::to_string(s[1]) +

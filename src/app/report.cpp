@@ -136,10 +136,18 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"capped_paths", res.final_render.counters.capped_paths},
                          {"A_render", in.final_stats.a}};
     j["appearance"] = appearance_json(res.final_look);
+    if (res.material)  // the material with the shading divided out (fit/appearance.h)
+        j["appearance"]["material"] = {{"S_material", res.material->s_material},
+                                       {"S_photo", res.material->s_photo},
+                                       {"D", res.material->d},
+                                       {"structure_distance", res.material->structure},
+                                       {"block_pixels", res.material->block},
+                                       {"blocks", res.material->blocks}};
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
     j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
-                    {"final_render", res.seconds_render}, {"write", res.seconds_write},
+                    {"final_render", res.seconds_render}, {"shading_render", res.seconds_shading},
+                    {"write", res.seconds_write},
                     {"total", res.seconds_total}};
     j["peak_memory_bytes"] = peak_rss_bytes();
     j["warnings"] = res.warnings;

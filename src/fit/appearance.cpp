@@ -24,7 +24,7 @@ TextureSpectrum photo_spectrum(const Photo& photo) {
     return texture_spectrum(photo_luma(photo), photo_pixels_per_side(photo));
 }
 
-std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_side) {
+RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_side) {
     const int b = std::max(1, int(std::lround(photo_pixels_per_side(photo) / render_pixels_per_side)));
     std::vector<Rgb8> blocks;
     for (int y0 = 0; y0 + b <= photo.height; y0 += b)
@@ -41,8 +41,30 @@ std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_
             if (2 * n < b * b) continue;  // a block mostly of background
             blocks.push_back({display_level(sum[0] / n), display_level(sum[1] / n), display_level(sum[2] / n)});
         }
-    const RgbHistogram h = RgbHistogram::of(blocks.empty() ? photo.foreground_levels() : blocks);
+    return RgbHistogram::of(blocks.empty() ? photo.foreground_levels() : blocks);
+}
+
+std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_side) {
+    const RgbHistogram h = photo_block_histogram(photo, render_pixels_per_side);
     return {h.spread(0), h.spread(1), h.spread(2)};
+}
+
+MaterialAppearance compare_material(const Photo& photo, const Film& render, const Film& shading, float exposure,
+                                    double render_pixels_per_side) {
+    MaterialAppearance m;
+    m.block = material_block(render.estimated_relative_error());
+    const Photo flat = flat_render(render, shading, exposure, m.block);
+    const RgbHistogram material = RgbHistogram::of(flat.foreground_levels());
+    const RgbHistogram scan = photo_block_histogram(photo, render_pixels_per_side / m.block);
+    m.blocks = material.total;
+    m.spectrum = texture_spectrum(photo_luma(flat), render_pixels_per_side / m.block);
+    m.structure = structure_distance(m.spectrum, photo_spectrum(photo));
+    for (int c = 0; c < 3; ++c) {
+        m.s_material[c] = material.spread(c);
+        m.s_photo[c] = scan.spread(c);
+        m.d[c] = histogram_distance(material, scan, c);
+    }
+    return m;
 }
 
 Appearance compare_appearance(const RgbHistogram& photo_histogram, const TextureSpectrum& photo,

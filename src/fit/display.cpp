@@ -195,23 +195,6 @@ double level_spread(const ObjectChannel& f) {
 
 }  // namespace
 
-Photo flat_render(const Film& render, const Film& shading, float exposure) {
-    Photo p;
-    p.width = render.width();
-    p.height = render.height();
-    const std::size_t n = std::size_t(p.width) * p.height;
-    p.levels.assign(n, Rgb8{0, 0, 0});
-    p.foreground.assign(n, 1);
-    for (int c = 0; c < 3; ++c) {
-        const ObjectChannel f = flattened(object_channel(render, c, exposure), object_channel(shading, c, exposure));
-        for (std::size_t i = 0; i < n; ++i) {
-            p.levels[i][c] = display_level(f.value[i]);
-            p.foreground[i] = p.foreground[i] && f.inside[i];
-        }
-    }
-    return p;
-}
-
 int material_block(double relative_error) {
     constexpr double kBlockError = 0.1;
     return std::clamp(int(std::ceil(relative_error / kBlockError)), 1, 8);
@@ -225,6 +208,26 @@ std::array<double, 3> material_spread(const Film& render, const Film& shading, f
         s[c] = level_spread(block_means(flattened(object_channel(render, c, exposure),
                                                   object_channel(shading, c, exposure)), block));
     return s;
+}
+
+Photo flat_render(const Film& render, const Film& shading, float exposure, int block) {
+    if (render.width() != shading.width() || render.height() != shading.height())
+        throw Error("internal: flat_render needs a render and a shading render of one size");
+    Photo p;
+    p.width = render.width() / block;
+    p.height = render.height() / block;
+    const std::size_t n = std::size_t(p.width) * p.height;
+    p.levels.assign(n, Rgb8{0, 0, 0});
+    p.foreground.assign(n, 1);
+    for (int c = 0; c < 3; ++c) {
+        const ObjectChannel f = block_means(
+            flattened(object_channel(render, c, exposure), object_channel(shading, c, exposure)), block);
+        for (std::size_t i = 0; i < n; ++i) {
+            p.levels[i][c] = display_level(f.value[i]);
+            p.foreground[i] = p.foreground[i] && f.inside[i];
+        }
+    }
+    return p;
 }
 
 Spectrum photo_mean_linear(const Photo& photo) {

@@ -21,6 +21,12 @@ struct MeshAccel::Embree {
 
 MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat)
     : mesh_(mesh), flat_(flat), embree_(std::make_unique<Embree>()) {
+    face_normals_.reserve(mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const glm::vec3 n = mesh.face_normal(t);
+        const float len = glm::length(n);
+        face_normals_.push_back(len > 0.f ? n / len : glm::vec3(0.f));
+    }
     embree_->device = rtcNewDevice(nullptr);
     if (!embree_->device) throw Error("cannot start Embree (rtcNewDevice failed)");
     embree_->scene = rtcNewScene(embree_->device);
@@ -74,7 +80,7 @@ std::optional<SurfaceHit> MeshAccel::intersect(const glm::vec3& o, const glm::ve
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     // Our own face normal, (p1 - p0) x (p2 - p0), whose orientation we define.
-    hit.geometric_normal = glm::normalize(mesh_.face_normal(hit.triangle));
+    hit.geometric_normal = face_normals_[hit.triangle];
     hit.shading_normal = hit.geometric_normal;
     if (!flat_) {
         const auto& tri = mesh_.triangles[hit.triangle];

@@ -62,13 +62,21 @@ CoefficientTable::CoefficientTable(const OpticalParams& p, double cube_side) {
         }
 }
 
-std::vector<std::uint8_t> slice_image(const MaterialVolume& v, int z) {
+RgbImage8 slice_image(const MaterialVolume& v, int z) {
     const int s = v.resolution;
-    std::vector<std::uint8_t> px(std::size_t(s) * s * 3);
+    // One entry per level and channel, so the slice costs a lookup per voxel.
+    std::array<std::array<std::uint8_t, 256>, 3> shown{};
+    for (int c = 0; c < 3; ++c)
+        for (int level = 0; level < 256; ++level)
+            shown[c][level] = std::uint8_t(std::min(255L, std::lround(256.0 * contrasted_level(level, c, v.optics))));
+    RgbImage8 img;
+    img.width = img.height = s;
+    img.pixels.resize(std::size_t(s) * s * 3);
     for (int y = 0; y < s; ++y)
         for (int x = 0; x < s; ++x)
-            for (int c = 0; c < 3; ++c) px[(std::size_t(y) * s + x) * 3 + c] = v.levels[v.index(x, y, z)][c];
-    return px;
+            for (int c = 0; c < 3; ++c)
+                img.pixels[(std::size_t(y) * s + x) * 3 + c] = shown[c][v.levels[v.index(x, y, z)][c]];
+    return img;
 }
 
 MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& noise, MatchMode match,

@@ -186,6 +186,32 @@ TEST_CASE("render: a saved volume on another mesh, against a reference, stopped 
     CHECK(rows.back().find(",,") == std::string::npos);  // RMSE columns filled
 }
 
+TEST_CASE("contrast: `volume --contrast 0` and `render --contrast 0` give the same mean medium",
+          "[cli][render]") {
+    TempDir dir;
+    const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
+    REQUIRE(run(dir, "volume --photo " + photo + " --resolution 16 --out " + dir.file("g1.vdb")).code == 0);
+    REQUIRE(run(dir, "volume --photo " + photo + " --resolution 16 --contrast 0 --preview " +
+                         dir.file("flat.png") + " --out " + dir.file("g0.vdb")).code == 0);
+    // At contrast 0 every voxel holds the mean level: the slice is one colour.
+    const ImageF32 slice = read_image_f32(dir.file("flat.png"));
+    for (std::size_t i = 3; i < slice.pixels.size(); ++i) CHECK(slice.pixels[i] == slice.pixels[i % 3]);
+    const std::string scene = " --mesh " + std::string(JADE_DATA_DIR) +
+                              "/meshes/spot-cow.obj --width 16 --height 16 --spp 4 --png '' --convergence '' ";
+    REQUIRE(run(dir, "render --volume " + dir.file("g0.vdb") + scene + "--out " + dir.file("a.exr")).code == 0);
+    const Result r = run(dir, "render --volume " + dir.file("g1.vdb") + scene + "--contrast 0 --out " +
+                                  dir.file("b.exr"));
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("contrast (0.000, 0.000, 0.000)"));
+    // Same coefficients, same random numbers: the same image, bit for bit.
+    CHECK(read_image_f32(dir.file("a.exr")).pixels == read_image_f32(dir.file("b.exr")).pixels);
+    const Result g1 = run(dir, "render --volume " + dir.file("g1.vdb") + scene + "--out " + dir.file("c.exr"));
+    REQUIRE(g1.code == 0);
+    CHECK(read_image_f32(dir.file("a.exr")).pixels != read_image_f32(dir.file("c.exr")).pixels);
+    require_clean_failure(dir, "render --sigma-s 1 --sigma-a 1 --contrast 0" + scene + "--out " + dir.file("d.exr"),
+                          "--contrast");
+}
+
 TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][render]") {
     TempDir dir;
     const std::string out = " --out " + dir.file("r.exr");

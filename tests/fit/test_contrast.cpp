@@ -76,6 +76,62 @@ TEST_CASE("material spread: the shading divides out, the material's spread stays
     CHECK(whole.s[0] > 1.5 * s[0]);
 }
 
+TEST_CASE("material D: the shading divides out of the histogram distance", "[fitter][contrast]") {
+    const int w = 40, h = 30;
+    auto shade = [&](int x, int) { return 0.2 + 0.8 * x / (w - 1.0); };
+    auto stripe = [](int, int y) { return (y / 3) % 2 ? 0.25 : 0.45; };
+    const Film shading = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * 0.35)); });
+    const Film render = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * stripe(x, y))); });
+
+    // The photo: the stripes alone, at the flattened render's two levels
+    // (the scale that gives the render's mean level, found as above).
+    double target = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) target += 255.0 * srgb_encode(shade(x, y) * stripe(x, y)) / (w * h);
+    double lo = 0.0, hi = 2.0;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        double mean = 0;
+        for (int y = 0; y < h; ++y) mean += 255.0 * srgb_encode(stripe(0, y) * mid) / h;
+        (mean < target ? lo : hi) = mid;
+    }
+    const double scale = 0.5 * (lo + hi);
+    Photo photo;
+    photo.width = w;
+    photo.height = h;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::uint8_t l = display_level(stripe(x, y) * scale);
+            photo.levels.push_back({l, l, l});
+            photo.foreground.push_back(1);
+        }
+    // One render pixel per photo pixel; exact films: blocks of one pixel.
+    const MaterialAppearance m = compare_material(photo, render, shading, 1.f, double(w));
+    CHECK(m.block == 1);
+    CHECK(m.blocks == std::size_t(w * h));
+    const RgbHistogram photo_hist = RgbHistogram::of(photo.levels);
+    const DisplayStatistics whole = display_statistics(render, 1.f);
+    for (int c = 0; c < 3; ++c) {
+        // A level off by one in float rounding of the ratio moves at most a
+        // few pixels' share between neighbouring bins.
+        CHECK(m.d[c] < 1e-3);
+        CHECK(m.s_material[c] == Approx(m.s_photo[c]).margin(0.5));
+        // The whole render's histogram carries the ramp: far from the photo's.
+        CHECK(histogram_distance(whole.histogram, photo_hist, c) > 0.1);
+    }
+    // The same stripes at the same scale: the same structure.
+    CHECK(m.structure == Approx(0.0).margin(0.05));
+    // A photo of twice the stripes' contrast is far from the material.
+    Photo wider = photo;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::uint8_t l = display_level(std::min(1.0, (stripe(x, y) - 0.35) * 2 * scale + 0.35 * scale));
+            wider.levels[std::size_t(y) * w + x] = {l, l, l};
+        }
+    const MaterialAppearance far = compare_material(wider, render, shading, 1.f, double(w));
+    for (int c = 0; c < 3; ++c) CHECK(far.d[c] > 0.5);
+}
+
 TEST_CASE("photo spread at a coarser scale averages the finer texture away", "[fitter][contrast]") {
     Photo p;
     p.width = p.height = 64;

@@ -35,4 +35,19 @@ struct RenderBenchOptions {
 };
 int run_render_benchmark(const RenderBenchOptions& options);
 
+// The paper's method beside the default on one photo and mesh (README,
+// "Fidelity"): the whole pipeline twice, the paper's (per-channel matching,
+// d_a = 0.1, the fBm of §4.1, k_s in 0.01 steps) and today's default, each
+// with its material measured against the photo (shading divided out).
+// Prints per channel A, S and D of the whole render and of the material,
+// the structure distances, renders and seconds, and the ratios
+// D(default) / D(paper). Writes both results under `out_dir`.
+struct FidelityBenchOptions {
+    std::string photo, mask, mesh;
+    std::string out_dir = "fidelity-bench";
+    int resolution = 256;          // of both volumes
+    int width = 512, height = 512; // of both final renders
+};
+int run_fidelity_benchmark(const FidelityBenchOptions& options);
+
 }  // namespace jade

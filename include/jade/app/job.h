@@ -24,6 +24,7 @@ struct RenderJob {
     bool allow_open = false;                   // render a badly open mesh anyway
     std::string volume;                        // .vdb: a jaderender volume or foreign grids
     std::optional<std::array<float, 3>> ks;    // override a jaderender volume's k_s
+    std::optional<std::array<float, 3>> contrast;  // and its contrast
     DensityConversion density;                 // for a foreign `density` grid
     std::optional<Spectrum> sigma_s, sigma_a;  // a homogeneous medium instead of a volume
     BoundaryParams interface;

@@ -11,6 +11,7 @@
 #include "jade/volume/material_volume.h"
 #include "jade/volume/noise.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,11 @@ struct PipelineOptions {
     FitOptions fit;
     RenderJob render;                 // mesh, boundary, lights, camera and the final render's settings
     bool progress = false;            // progress bars on stderr
+    // Also render the final render's shading (the volume's mean medium,
+    // contrast 0, same random numbers and majorant) and compare the material
+    // with the photo, shading divided out (fit/appearance.h,
+    // compare_material). Costs about one more final render.
+    bool measure_material = false;
 };
 
 struct PipelineResult {
@@ -37,10 +43,11 @@ struct PipelineResult {
     bool structure_estimated = false;
     RenderResult final_render;
     Appearance final_look;            // the final render against the photo (fit/appearance.h)
+    std::optional<MaterialAppearance> material;  // with measure_material
     std::vector<std::string> warnings;
     std::vector<std::string> written;
     double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_render = 0,
-           seconds_write = 0, seconds_total = 0;
+           seconds_shading = 0, seconds_write = 0, seconds_total = 0;
 };
 
 PipelineResult run_pipeline(const PipelineOptions& options);

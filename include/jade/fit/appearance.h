@@ -36,6 +36,26 @@ TextureSpectrum photo_spectrum(const Photo& photo);
 // render pixel, which the render cannot show, does not count. At the photo's
 // own scale or finer it is the histogram's spread.
 std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_side);
+// The histogram of those block levels.
+RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_side);
+
+// The material against the photo with the render's shading divided out
+// (fit/display.h, flat_render): a flat scan of a stone has no
+// shading, a lit object does, and A, S and D of the whole render measure
+// both. Here the render and its shading render (the volume's mean medium,
+// same random numbers) are flattened and averaged over blocks in which the
+// render's noise falls to 0.1 (material_block), and the photo is averaged
+// over blocks of the same footprint on the cube. The structure distance is
+// the flattened blocks' luma spectrum against the photo's.
+struct MaterialAppearance {
+    std::array<double, 3> s_material{}, s_photo{}, d{};
+    TextureSpectrum spectrum;   // of the flattened blocks' luma
+    double structure = -1.0;    // structure_distance(spectrum, the photo's)
+    int block = 1;              // render pixels per block side
+    std::size_t blocks = 0;     // render blocks in the histogram
+};
+MaterialAppearance compare_material(const Photo& photo, const Film& render, const Film& shading, float exposure,
+                                    double render_pixels_per_side);
 
 Appearance compare_appearance(const RgbHistogram& photo_histogram, const TextureSpectrum& photo_spectrum,
                               const DisplayStatistics& render, double render_pixels_per_side);

@@ -67,9 +67,12 @@ double level_slope(double linear);
 // photo_spread at the block's scale.
 std::array<double, 3> material_spread(const Film& render, const Film& shading, float exposure, int block);
 
-// The flattened render itself as an image (its foreground: the pixels
-// flattened in every channel), e.g. to show or to test with.
-Photo flat_render(const Film& render, const Film& shading, float exposure);
+// The flattened render itself as an image (above: render / shading at the
+// render's mean level), averaged over block × block pixels: the stone as a
+// flat scan would show it, to hold against the photo at the same scale
+// (fit/appearance.h, compare_material). Its foreground: the blocks
+// flattened in every channel.
+Photo flat_render(const Film& render, const Film& shading, float exposure, int block = 1);
 
 // The block for material_spread: the side, in pixels, over which a render of
 // this estimated relative error per pixel averages to 0.1 (at most 8).

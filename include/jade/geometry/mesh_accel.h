@@ -9,6 +9,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace jade {
 
@@ -37,6 +38,10 @@ private:
     struct Embree;
     const TriangleMesh& mesh_;
     bool flat_;
+    // Unit face normals, (p1 - p0) × (p2 - p0) normalised, one per triangle:
+    // every hit needs one, and recomputing it from the vertices cost as much
+    // as a tenth of a render (README, "Benchmarks").
+    std::vector<glm::vec3> face_normals_;
     std::unique_ptr<Embree> embree_;
 };
 

@@ -88,8 +88,10 @@ struct CoefficientTable {
 };
 
 // Slice z of the volume as an 8-bit RGB image (row y, column x): the
-// colour-matched noise image of §4.2.
-std::vector<std::uint8_t> slice_image(const MaterialVolume& volume, int z);
+// colour-matched noise image of §4.2 with the volume's contrast applied
+// (level 256·v'_c), i.e. the material the renderer sees. At contrast 1 these
+// are the stored levels exactly.
+RgbImage8 slice_image(const MaterialVolume& volume, int z);
 
 // Noise (§4.1) → colour matching (§4.2) → levels, slice by slice in parallel.
 // Each slice's noise is matched as soon as it exists, so the full float noise
