@@ -38,79 +38,73 @@ Film exact_film(int w, int h, F value) {
     return f;
 }
 
+// A render of known material under known shading: a ramp from 0.2 to 1
+// across the image times stripes of two albedos, and its shading render
+// (the stripes' mean albedo under the same ramp).
+struct ShadedStripes {
+    static constexpr int w = 40, h = 30;
+    static double shade(int x) { return 0.2 + 0.8 * x / (w - 1.0); }
+    static double stripe(int y) { return (y / 3) % 2 ? 0.25 : 0.45; }
+    Film shading = exact_film(w, h, [](int x, int) { return Spectrum(float(shade(x) * 0.35)); });
+    Film render = exact_film(w, h, [](int x, int y) { return Spectrum(float(shade(x) * stripe(y))); });
+
+    // The flattened render's levels: stripe × c, with c such that their mean
+    // level is the render's (found by bisection, as the flattening does).
+    std::vector<double> flat_levels() const {
+        double target = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) target += 255.0 * srgb_encode(shade(x) * stripe(y)) / (w * h);
+        auto levels_at = [](double scale) {
+            std::vector<double> levels;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) levels.push_back(255.0 * srgb_encode(stripe(y) * scale));
+            return levels;
+        };
+        double lo = 0.0, hi = 2.0;
+        for (int i = 0; i < 60; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            const auto l = levels_at(mid);
+            (std::accumulate(l.begin(), l.end(), 0.0) / l.size() < target ? lo : hi) = mid;
+        }
+        return levels_at(0.5 * (lo + hi));
+    }
+};
+
 }  // namespace
 
 TEST_CASE("material spread: the shading divides out, the material's spread stays", "[fitter][contrast]") {
-    const int w = 40, h = 30;
-    // Shading: a ramp from 0.2 to 1 across the image; material: stripes of two albedos.
-    auto shade = [&](int x, int) { return 0.2 + 0.8 * x / (w - 1.0); };
-    auto stripe = [](int, int y) { return (y / 3) % 2 ? 0.25 : 0.45; };
-    const Film shading = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * 0.35)); });
-    const Film render = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * stripe(x, y))); });
-
+    const ShadedStripes scene;
     // Against the same medium the material adds nothing.
-    const auto none = material_spread(shading, shading, 1.f, 1);
+    const auto none = material_spread(scene.shading, scene.shading, 1.f, 1);
     for (int c = 0; c < 3; ++c) CHECK(none[c] == Approx(0.0).margin(1e-3));  // float rounding of the ratio
 
-    // Flattened pixel: stripe × c, with c such that the mean level is the render's.
-    double target = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) target += 255.0 * srgb_encode(shade(x, y) * stripe(x, y)) / (w * h);
-    auto levels_at = [&](double scale) {
-        std::vector<double> levels;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) levels.push_back(255.0 * srgb_encode(stripe(x, y) * scale));
-        return levels;
-    };
-    double lo = 0.0, hi = 2.0;
-    for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        const auto l = levels_at(mid);
-        (std::accumulate(l.begin(), l.end(), 0.0) / l.size() < target ? lo : hi) = mid;
-    }
-    const std::vector<double> levels = levels_at(0.5 * (lo + hi));
-    const auto s = material_spread(render, shading, 1.f, 1);
+    const std::vector<double> levels = scene.flat_levels();
+    const auto s = material_spread(scene.render, scene.shading, 1.f, 1);
     for (int c = 0; c < 3; ++c) CHECK(s[c] == Approx(spread_of(levels)).epsilon(1e-4));
     // The whole render's spread is far larger: the ramp counts there.
-    const DisplayStatistics whole = display_statistics(render, 1.f);
+    const DisplayStatistics whole = display_statistics(scene.render, 1.f);
     CHECK(whole.s[0] > 1.5 * s[0]);
 }
 
 TEST_CASE("material D: the shading divides out of the histogram distance", "[fitter][contrast]") {
-    const int w = 40, h = 30;
-    auto shade = [&](int x, int) { return 0.2 + 0.8 * x / (w - 1.0); };
-    auto stripe = [](int, int y) { return (y / 3) % 2 ? 0.25 : 0.45; };
-    const Film shading = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * 0.35)); });
-    const Film render = exact_film(w, h, [&](int x, int y) { return Spectrum(float(shade(x, y) * stripe(x, y))); });
-
-    // The photo: the stripes alone, at the flattened render's two levels
-    // (the scale that gives the render's mean level, found as above).
-    double target = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) target += 255.0 * srgb_encode(shade(x, y) * stripe(x, y)) / (w * h);
-    double lo = 0.0, hi = 2.0;
-    for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        double mean = 0;
-        for (int y = 0; y < h; ++y) mean += 255.0 * srgb_encode(stripe(0, y) * mid) / h;
-        (mean < target ? lo : hi) = mid;
-    }
-    const double scale = 0.5 * (lo + hi);
+    const ShadedStripes scene;
+    const int w = scene.w, h = scene.h;
+    // The photo: the stripes alone, at the flattened render's two levels.
+    const std::vector<double> flat = scene.flat_levels();
     Photo photo;
     photo.width = w;
     photo.height = h;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::uint8_t l = display_level(stripe(x, y) * scale);
-            photo.levels.push_back({l, l, l});
-            photo.foreground.push_back(1);
-        }
+    for (double level : flat) {
+        const auto l = std::uint8_t(std::lround(level));
+        photo.levels.push_back({l, l, l});
+        photo.foreground.push_back(1);
+    }
     // One render pixel per photo pixel; exact films: blocks of one pixel.
-    const MaterialAppearance m = compare_material(photo, render, shading, 1.f, double(w));
+    const MaterialAppearance m = compare_material(photo, scene.render, scene.shading, 1.f, double(w));
     CHECK(m.block == 1);
     CHECK(m.blocks == std::size_t(w * h));
     const RgbHistogram photo_hist = RgbHistogram::of(photo.levels);
-    const DisplayStatistics whole = display_statistics(render, 1.f);
+    const DisplayStatistics whole = display_statistics(scene.render, 1.f);
     for (int c = 0; c < 3; ++c) {
         // A level off by one in float rounding of the ratio moves at most a
         // few pixels' share between neighbouring bins.
@@ -121,14 +115,14 @@ TEST_CASE("material D: the shading divides out of the histogram distance", "[fit
     }
     // The same stripes at the same scale: the same structure.
     CHECK(m.structure == Approx(0.0).margin(0.05));
-    // A photo of twice the stripes' contrast is far from the material.
+    // A photo of twice the stripes' contrast in levels is far from the material.
     Photo wider = photo;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::uint8_t l = display_level(std::min(1.0, (stripe(x, y) - 0.35) * 2 * scale + 0.35 * scale));
-            wider.levels[std::size_t(y) * w + x] = {l, l, l};
-        }
-    const MaterialAppearance far = compare_material(wider, render, shading, 1.f, double(w));
+    const double mean = std::accumulate(flat.begin(), flat.end(), 0.0) / flat.size();
+    for (std::size_t i = 0; i < flat.size(); ++i) {
+        const auto l = std::uint8_t(std::clamp(std::lround(mean + 2 * (flat[i] - mean)), 0L, 255L));
+        wider.levels[i] = {l, l, l};
+    }
+    const MaterialAppearance far = compare_material(wider, scene.render, scene.shading, 1.f, double(w));
     for (int c = 0; c < 3; ++c) CHECK(far.d[c] > 0.5);
 }
 
