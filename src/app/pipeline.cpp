@@ -62,29 +62,38 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     return volume;
 }
 
-// The final render; with `majorant_floor` (and the volume's optics changed)
-// a render that shares its random numbers and tentative collisions.
+// The final render of `medium`. With `spp` > 0 exactly that many samples
+// per pixel, whatever stopped the final render: its shading render must take
+// the same samples to share its random numbers.
 RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, const MaterialVolumeMedium& medium,
-                          const char* label) {
+                          const char* label, int spp = 0) {
     Scene scene = prep.scene;
     scene.medium = &medium;
     RenderSettings settings = o.render.settings;
     settings.backdrop = prep.backdrop;
+    if (spp > 0) {
+        settings.spp = spp;
+        settings.time_limit = 0.0;
+        settings.target_error = 0.0;
+    }
     std::unique_ptr<Progress> bar;
     if (o.progress)
         bar = std::make_unique<Progress>(label, std::size_t(prep.camera.width) * prep.camera.height * settings.spp);
     return render(scene, PinholeCamera(prep.camera), settings, bar.get());
 }
 
-// The final render's shading render and the material measured with it.
+// The final render's shading render (the mean medium under the final
+// render's majorant, samples and seed: the same tentative collisions) and
+// the material measured with it.
 MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScene& prep,
                                     const MaterialVolume& volume, const Photo& photo, PipelineResult& res) {
     const Stopwatch clock;
+    const int spp = res.final_render.passes.empty() ? 0 : res.final_render.passes.back().spp;
     const Spectrum majorant = MaterialVolumeMedium(volume, volume.cube).majorant();
     OpticalParams mean_medium = volume.optics;
     mean_medium.contrast = {0.0, 0.0, 0.0};
     const MaterialVolumeMedium medium(volume, volume.cube, mean_medium, majorant);
-    const RenderResult shading = final_render(o, prep, medium, "shading render");
+    const RenderResult shading = final_render(o, prep, medium, "shading render", spp);
     res.seconds_shading = clock.seconds();
     return compare_material(photo, res.final_render.film, shading.film, float(res.fit.exposure),
                             render_pixels_per_side(prep.camera, volume.cube));
