@@ -287,7 +287,11 @@ std::array<double, 3> FitSession::brightness_slopes() const {
 // |ΔA| < 1 and |ΔS| < s_tolerance, and keeps the best (k_s, g) it saw.
 void FitSession::fit_contrast() {
     std::array<double, 3> k = outcome_.ks, g = outcome_.contrast_start;
-    const std::array<double, 3> slope = brightness_slopes();
+    // dA/dk_s, measured at contrast 1 by the k_s search and corrected by
+    // every step (at another contrast the slope differs, and Newton steps
+    // with the first slope swing back and forth or creep).
+    std::array<double, 3> slope = brightness_slopes();
+    std::array<double, 3> delta_prev{};
     std::array<bool, 3> done{};
     std::array<double, 3> best_score{1e300, 1e300, 1e300};
     std::array<double, 3> g_prev{}, s_prev{};
@@ -315,6 +319,16 @@ void FitSession::fit_contrast() {
             if (score < 1.0) done[c] = true;
             if (done[c]) continue;
             all_done = false;
+            // A Newton step that left the ratio r = ΔA_now / ΔA_before took a
+            // slope 1 − r times the true one: r < 0 overshot (too shallow),
+            // 0 < r < 1 fell short (too steep). Steps near the goal are
+            // noise, and a step the contrast moved a lot is not k_s's alone,
+            // so the factor is bounded.
+            if (have_prev && std::abs(delta_prev[c]) > 2.0 * limits_.tolerance) {
+                const double factor = 1.0 - rec.delta[c] / delta_prev[c];
+                if (factor > 0.0) slope[c] *= std::clamp(factor, 0.25, 4.0);
+            }
+            delta_prev[c] = rec.delta[c];
             const double g_next = next_contrast(g[c], s_mat[c], s_photo[c], have_prev, g_prev[c], s_prev[c]);
             g_prev[c] = g[c];
             s_prev[c] = s_mat[c];

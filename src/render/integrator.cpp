@@ -82,15 +82,17 @@ PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction
     PathState s(origin, direction, rng, counters);
     s.hero = std::min(2, int(3.f * rng.uniform()));
     for (;;) {
-        const auto hit = scene_.boundary->intersect(s.o, s.d, 0.f, kInfinity);
+        std::optional<SurfaceHit> hit;
         if (s.inside && scene_.medium) {
             MediumProperties m;
-            const Flight flight = track(s, hit ? hit->t : kInfinity, m);
+            const Flight flight = fly(s, hit, m);
             if (flight == Flight::Ended) return s.out;
             if (flight == Flight::Scattered) {
                 if (!scatter(s, m) || !survive(s)) return s.out;
                 continue;
             }
+        } else {
+            hit = scene_.boundary->intersect(s.o, s.d, 0.f, kInfinity);
         }
         if (!hit) {
             escape(s);
@@ -98,6 +100,22 @@ PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction
         }
         if (!cross_surface(s, *hit)) return s.out;
     }
+}
+
+// A free flight in the medium: first through the stretch the boundary's
+// clearance proves free of the surface (no ray query; s.o advances), then,
+// only if no real collision happened there, up to the boundary, whose hit is
+// left in `hit`. Free flights are memoryless, so the split is unbiased.
+Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
+                                   MediumProperties& at) const {
+    Flight flight = Flight::Reached;
+    advance_within_clearance(*scene_.boundary, s.o, s.d, [&](float r) {
+        flight = track(s, r, at);
+        return flight == Flight::Reached;
+    });
+    if (flight != Flight::Reached) return flight;
+    hit = scene_.boundary->intersect(s.o, s.d, 0.f, kInfinity);
+    return track(s, hit ? hit->t : kInfinity, at);
 }
 
 // Delta tracking to the next real collision before t_max: a scattering

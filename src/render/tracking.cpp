@@ -44,6 +44,12 @@ Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::v
     glm::vec3 o = origin;
     bool inside = true;  // shadow rays start at medium vertices
     for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
+        if (inside && scene.medium &&
+            !advance_within_clearance(*scene.boundary, o, direction, [&](float r) {
+                tr *= ratio_tracking(*scene.medium, o, direction, r, rng, counters);
+                return max_component(tr) > 0.f;
+            }))
+            return tr;  // ended by roulette before reaching the surface
         const auto hit = scene.boundary->intersect(o, direction, 0.f, kInfinity);
         if (inside && scene.medium) {
             tr *= ratio_tracking(*scene.medium, o, direction, hit ? hit->t : kInfinity, rng, counters);

@@ -3,6 +3,7 @@
 // triangle mesh. Owns its Embree device and scene (no global state); safe to
 // query from many threads at once.
 
+#include "jade/geometry/clearance_grid.h"
 #include "jade/geometry/mesh.h"
 
 #include <glm/vec3.hpp>
@@ -32,6 +33,11 @@ public:
     // Closest hit with t in (tmin, tmax); direction must be unit length.
     std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& direction,
                                         float tmin, float tmax) const;
+    // At most the distance from p to the surface (0 outside the mesh's box):
+    // cheap enough to ask at every collision.
+    float clearance(const glm::vec3& p) const { return clearance_.at(p); }
+    // Below this a clearance is not worth stepping by (one grid cell).
+    float clearance_resolution() const { return clearance_.cell_size(); }
     const TriangleMesh& mesh() const { return mesh_; }
 
 private:
@@ -43,6 +49,7 @@ private:
     // as a tenth of a render (README, "Benchmarks").
     std::vector<glm::vec3> face_normals_;
     std::unique_ptr<Embree> embree_;
+    ClearanceGrid clearance_;
 };
 
 }  // namespace jade

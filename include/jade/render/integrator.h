@@ -67,6 +67,7 @@ private:
     struct PathState;
     enum class Flight { Reached, Scattered, Ended };
     Flight track(PathState& s, float t_max, MediumProperties& at) const;
+    Flight fly(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
     void estimate_light(PathState& s, const glm::vec3& p) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;

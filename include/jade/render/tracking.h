@@ -62,6 +62,24 @@ bool sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3& d, 
     return true;
 }
 
+// Sphere tracing through the boundary's clearance: the start of a ray from o
+// along d is cut into stretches that provably stay inside the surface's
+// clearance, and `stretch(r)` tracks each (length r from o), returning false
+// to stop. o advances past every stretch tracked to its end. Returns true
+// when the caller must go on to the boundary with a ray query from o.
+constexpr int kMaxClearanceSteps = 8;
+template <typename Stretch>
+bool advance_within_clearance(const MeshAccel& boundary, glm::vec3& o, const glm::vec3& d,
+                              Stretch&& stretch) {
+    for (int step = 0; step < kMaxClearanceSteps; ++step) {
+        const float r = boundary.clearance(o);
+        if (r < boundary.clearance_resolution()) break;  // near the surface: ask Embree
+        if (!stretch(r)) return false;
+        o += r * d;
+    }
+    return true;
+}
+
 // Ratio tracking (Cramer 1978; Novák et al. 2014) along o + t·d for
 // 0 ≤ t < t_max: every tentative collision multiplies the estimate by the
 // probability of a null collision there, σ_n / σ̄, per channel; Russian
