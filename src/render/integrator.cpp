@@ -118,39 +118,47 @@ Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
     return track(s, hit ? hit->t : kInfinity, at);
 }
 
-// Delta tracking to the next real collision before t_max: a scattering
-// (its point in s.collision, its coefficients in `at`), an absorption or a
-// zero-probability null event (the path ends), or none (the flight reached t_max).
+// Delta tracking to the next real collision before t_max, against the
+// hero's majorant: a scattering (its point in s.collision, its coefficients
+// in `at`), an absorption or a zero-probability null event (the path ends),
+// or none (the flight reached t_max). Each event's weight per channel is its
+// contribution over the hero's probability of making it, T_maj·σ_x /
+// (T_maj[h]·σ_x[h]), which is also each channel's density relative to the
+// hero's: both go into s.w (the σ_s of a scattering is scatter()'s).
 Integrator::Flight Integrator::track(PathState& s, float t_max, MediumProperties& at) const {
+    const int h = s.hero;
     Flight result = Flight::Reached;
-    sample_t_maj(*scene_.medium, s.o, s.d, t_max, s.rng,
-                 [&](const glm::vec3& p, const MediumProperties& m, float mu) {
-                     const float p_absorb = m.sigma_a[s.hero] / mu;
-                     const float p_scatter = m.sigma_s[s.hero] / mu;
-                     const float xi = s.rng.uniform();
-                     if (xi < p_absorb) {  // absorbed: no emission, the path ends
-                         ++s.counters.real_collisions;
-                         result = Flight::Ended;
-                         return false;
-                     }
-                     if (xi < p_absorb + p_scatter) {
-                         ++s.counters.real_collisions;
-                         s.collision = p;
-                         at = m;
-                         result = Flight::Scattered;
-                         return false;
-                     }
-                     // Null collision: continue with the null-collision weight.
-                     ++s.counters.null_collisions;
-                     const Spectrum sigma_n =
-                         glm::max(Spectrum(0.f), Spectrum(mu) - m.sigma_s - m.sigma_a);
-                     if (!(sigma_n[s.hero] > 0.f)) {  // probability-zero event (rounding)
-                         result = Flight::Ended;
-                         return false;
-                     }
-                     s.w.scale(sigma_n / sigma_n[s.hero]);
-                     return true;
-                 });
+    const Spectrum T_rest = sample_t_maj(
+        *scene_.medium, s.o, s.d, t_max, h, s.rng,
+        [&](const glm::vec3& p, const MediumProperties& m, const Spectrum& mu, const Spectrum& T_maj) {
+            const float p_absorb = m.sigma_a[h] / mu[h];
+            const float p_scatter = m.sigma_s[h] / mu[h];
+            const float xi = s.rng.uniform();
+            if (xi < p_absorb) {  // absorbed: no emission, the path ends
+                ++s.counters.real_collisions;
+                result = Flight::Ended;
+                return false;
+            }
+            if (xi < p_absorb + p_scatter) {
+                ++s.counters.real_collisions;
+                s.collision = p;
+                at = m;
+                s.w.scale(T_maj / T_maj[h]);
+                result = Flight::Scattered;
+                return false;
+            }
+            // Null collision: continue with the null-collision weight.
+            ++s.counters.null_collisions;
+            const Spectrum sigma_n = glm::max(Spectrum(0.f), mu - m.sigma_s - m.sigma_a);
+            if (!(sigma_n[h] > 0.f)) {  // probability-zero event (rounding)
+                result = Flight::Ended;
+                return false;
+            }
+            s.w.scale(T_maj * sigma_n / (T_maj[h] * sigma_n[h]));
+            return true;
+        });
+    // Reaching t_max has the hero's probability T_maj[h].
+    if (result == Flight::Reached) s.w.scale(T_rest / T_rest[h]);
     return result;
 }
 

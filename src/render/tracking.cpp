@@ -19,7 +19,8 @@ PathCounters& PathCounters::operator+=(const PathCounters& o) {
 Spectrum ratio_tracking(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
                         SampleStream& rng, PathCounters& counters) {
     Spectrum tr(1.f);
-    sample_t_maj(medium, o, d, t_max, rng, [&](const glm::vec3&, const MediumProperties& m, float mu) {
+    sample_t_maj(medium, o, d, t_max, kGreyMajorant, rng,
+                 [&](const glm::vec3&, const MediumProperties& m, const Spectrum& mu, const Spectrum&) {
         ++counters.null_collisions;
         tr *= glm::max(Spectrum(0.f), Spectrum(1.f) - (m.sigma_s + m.sigma_a) / mu);
         // Russian roulette on a faint shadow ray keeps it unbiased and short.

@@ -3,10 +3,11 @@
 // dielectric boundary and the medium inside it.
 //
 // Free flights are sampled by delta tracking (Woodcock et al. 1965) against
-// the medium's grey majorant segments (render/tracking.h). RGB media are
-// chromatic, so each path picks a hero channel uniformly and chooses its
-// collision events (absorb / scatter / null) with that channel's
-// probabilities; the path's weight for each channel is then combined across
+// the medium's majorant segments (render/tracking.h). RGB media are
+// chromatic, so each path picks a hero channel uniformly, draws its free
+// flights against that channel's majorant and chooses its collision events
+// (absorb / scatter / null) with that channel's probabilities (spectral
+// tracking); the path's weight for each channel is then combined across
 // the three channels' sampling densities by one-sample MIS with the balance
 // heuristic (spectral MIS: Wilkie et al. 2014; pbrt-v4's VolPathIntegrator,
 // Mitsuba 3's volpathmis). The estimate is unbiased in every channel and

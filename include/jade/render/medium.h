@@ -6,9 +6,9 @@
 // volume's levels, or float grids from a foreign .vdb).
 //
 // Tracking (render/tracking.h) asks the medium for majorant segments along a
-// ray: stretches with one grey majorant each. Today's media hand out one
-// segment with their global majorant; a medium with a majorant grid hands
-// out one per cell it crosses, and no tracking loop changes.
+// ray: stretches with one majorant per channel each. Today's media hand out
+// one segment with their global majorant; a medium with a majorant grid
+// hands out one per cell it crosses, and no tracking loop changes.
 
 #include "jade/core/spectrum.h"
 
@@ -23,10 +23,10 @@ struct MediumProperties {
     Spectrum sigma_a{0.f};  // absorption coefficient
 };
 
-// A stretch [t_min, t_max) of a ray over which σ_t ≤ sigma_maj in every channel.
+// A stretch [t_min, t_max) of a ray over which σ_t ≤ sigma_maj, per channel.
 struct MajorantSegment {
     float t_min = 0.f, t_max = 0.f;
-    float sigma_maj = 0.f;
+    Spectrum sigma_maj{0.f};
 };
 
 class Medium {
@@ -38,7 +38,7 @@ public:
     virtual Spectrum majorant() const = 0;
     // The segment of the ray o + t·d that starts at t_min and ends no later
     // than t_max. The default: all of [t_min, t_max) under the global
-    // majorant's largest channel (one grey majorant for an RGB medium).
+    // majorant.
     virtual MajorantSegment majorant_segment(const glm::vec3& o, const glm::vec3& d, float t_min,
                                              float t_max) const;
     // Memory the medium holds for its coefficients (benchmarks report it).

@@ -40,26 +40,54 @@ inline float sample_free_flight(float mu, SampleStream& rng) {
     return -std::log1p(-rng.uniform()) / mu;
 }
 
-// Tentative collisions along o + t·d for 0 ≤ t < t_max. At each one,
-// `collide(p, properties, sigma_maj)` returns true to go on, false to stop.
-// Returns true when the ray reached t_max (no callback stopped it).
-// Segments with a zero majorant are crossed without drawing a number.
+// exp(−μ·Δt) per channel; a channel with a zero majorant is not attenuated,
+// even over an infinite stretch.
+inline Spectrum majorant_transmittance(const Spectrum& mu, float dt) {
+    Spectrum T(1.f);
+    for (int c = 0; c < 3; ++c)
+        if (mu[c] > 0.f) T[c] = std::exp(-mu[c] * dt);
+    return T;
+}
+
+// Which majorant channel draws the tentative collisions: a path's hero
+// channel (its own majorant, so a homogeneous medium has no null collisions
+// in it; Kutz et al. 2017, spectral tracking as in pbrt-v4 and Mitsuba), or
+// the largest of the three (a grey majorant, for ratio tracking).
+constexpr int kGreyMajorant = -1;
+
+// Tentative collisions along o + t·d for 0 ≤ t < t_max, drawn against the
+// majorant of `channel`. At each one,
+// `collide(p, properties, sigma_maj, T_maj)` returns true to go on, false to
+// stop; T_maj is the majorant transmittance per channel since the previous
+// tentative collision (all ones under a grey majorant). Returns the majorant
+// transmittance from the last tentative collision to t_max, or zero when a
+// callback stopped the flight. Stretches where the channel's majorant is 0
+// are crossed without drawing a number.
 template <typename Collide>
-bool sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
-                  SampleStream& rng, Collide&& collide) {
+Spectrum sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
+                      int channel, SampleStream& rng, Collide&& collide) {
+    const bool grey = channel == kGreyMajorant;
+    Spectrum T_maj(1.f);
     for (float t_min = 0.f; t_min < t_max;) {
         const MajorantSegment seg = medium.majorant_segment(o, d, t_min, t_max);
-        if (seg.sigma_maj > 0.f) {
-            for (float t = seg.t_min + sample_free_flight(seg.sigma_maj, rng); t < seg.t_max;
-                 t += sample_free_flight(seg.sigma_maj, rng)) {
+        const Spectrum mu = grey ? Spectrum(max_component(seg.sigma_maj)) : seg.sigma_maj;
+        const float rate = mu[grey ? 0 : channel];
+        float t = seg.t_min;
+        if (rate > 0.f) {
+            for (float next = t + sample_free_flight(rate, rng); next < seg.t_max;
+                 next += sample_free_flight(rate, rng)) {
+                if (!grey) T_maj *= majorant_transmittance(mu, next - t);
+                t = next;
                 const glm::vec3 p = o + t * d;
-                if (!collide(p, medium.at(p), seg.sigma_maj)) return false;
+                if (!collide(p, medium.at(p), mu, T_maj)) return Spectrum(0.f);
+                T_maj = Spectrum(1.f);
             }
         }
+        if (!grey) T_maj *= majorant_transmittance(mu, seg.t_max - t);
         if (!(seg.t_max > t_min)) break;  // an empty segment: nothing further to track
         t_min = seg.t_max;
     }
-    return true;
+    return T_maj;
 }
 
 // Sphere tracing through the boundary's clearance: the start of a ray from o
