@@ -101,7 +101,8 @@ bool advance_within_clearance(const MeshAccel& boundary, glm::vec3& o, const glm
                               Stretch&& stretch) {
     for (int step = 0; step < kMaxClearanceSteps; ++step) {
         const float r = boundary.clearance(o);
-        if (r < boundary.clearance_resolution()) break;  // near the surface: ask Embree
+        // Near the surface (or no grid: a degenerate mesh): ask Embree.
+        if (!(r > 0.f) || r < boundary.clearance_resolution()) break;
         if (!stretch(r)) return false;
         o += r * d;
     }
