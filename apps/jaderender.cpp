@@ -148,6 +148,7 @@ struct RenderFlags {
     std::string job_file;
     jade::RenderJob job;
     std::string boundary = "split";
+    std::string light_nee = "auto";
     Vec3Flag sigma_s, sigma_a, ks, contrast, vdb_albedo, origin, target, up, light_dir;
 };
 
@@ -171,6 +172,7 @@ bool preload_job(int argc, char** argv, RenderFlags& f) {
             return false;
         }
         f.boundary = jade::to_string(f.job.interface.mode);
+        f.light_nee = jade::to_string(f.job.settings.integrator.light_through_boundary);
     }
     return true;
 }
@@ -236,8 +238,8 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "Its irradiance on a surface facing it (0 = off)")
         ->capture_default_str();
     cmd.add_option("--light-radius", j.light_radius_degrees,
-                   "Its angular radius, degrees (0 = a delta light, which reaches the inside of a "
-                   "dielectric object only with --boundary none)")
+                   "Its angular radius, degrees (0 = a delta light: inside a dielectric object it "
+                   "is found only through one refraction, see --light-nee)")
         ->capture_default_str();
     cmd.add_option("--env", j.environment,
                    "Environment: constant radiance (v or r,g,b) or a lat-long .exr/.hdr image")
@@ -258,9 +260,12 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--max-depth", j.settings.integrator.max_depth,
                    "Most interactions per path; paths cut here are counted as bias")
         ->capture_default_str();
-    cmd.add_option("--light-nee", j.settings.integrator.light_through_boundary,
-                   "Next-event estimation of the light through the boundary (off: only paths that "
-                   "refract out into the light's disc find it; same image, more noise)")
+    cmd.add_option("--light-nee", f.light_nee,
+                   "Next-event estimation of the light through a refracting boundary: 'manifold' "
+                   "(Newton's method finds the refraction toward a point of the light), 'cone' (a "
+                   "guided cone of directions), 'auto' (manifold below 10 degrees of light radius, "
+                   "cone above) or 'off' (only paths that refract out into the light's disc find "
+                   "it; same image, more noise). A delta light always uses 'manifold'")
         ->capture_default_str();
 }
 
@@ -268,6 +273,7 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
 void resolve_flags(RenderFlags& f) {
     jade::RenderJob& j = f.job;
     j.interface.mode = jade::parse_boundary_mode(f.boundary);
+    j.settings.integrator.light_through_boundary = jade::parse_light_through_boundary(f.light_nee);
     if (f.sigma_s.given()) j.sigma_s = f.sigma_s.value("--sigma-s");
     if (f.sigma_a.given()) j.sigma_a = f.sigma_a.value("--sigma-a");
     if (f.ks.given()) {
@@ -310,6 +316,12 @@ int run_render(RenderFlags& f) {
     std::printf("  %.3g M samples/s, %.3g M path vertices/s; collisions %.3g M real, %.3g M null\n",
                 samples / rr.seconds / 1e6, double(rr.counters.vertices()) / rr.seconds / 1e6,
                 double(rr.counters.real_collisions) / 1e6, double(rr.counters.null_collisions) / 1e6);
+    if (rr.counters.manifold_walks > 0)
+        std::printf("  light through the boundary: %.3g M manifold walks, %.1f%% found no refraction "
+                    "path (most have none: beyond the critical angle)%s\n",
+                    double(rr.counters.manifold_walks) / 1e6,
+                    100.0 * double(rr.counters.manifold_failures) / double(rr.counters.manifold_walks),
+                    j.light_radius_degrees > 0.f ? "" : "; a delta light's missed paths stay dark");
     if (rr.counters.capped_paths > 0)
         std::printf("  BIAS: %llu of %llu paths were cut at --max-depth %d\n",
                     (unsigned long long)rr.counters.capped_paths,

@@ -12,19 +12,7 @@ repeats=${1:-3}
 scenes=${2:-ABC}
 
 bash scripts/setup.sh
-sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
-llvm=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
-if [ ! -e "$llvm" ]; then
-    sudo_if_needed apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive sudo_if_needed apt-get install -y -qq libllvm19 python3-venv < /dev/null
-fi
-work=$PWD/bench-work
-if [ ! -x "$work/venv/bin/python" ]; then
-    python3 -m venv "$work/venv"
-    "$work/venv/bin/pip" install -q mitsuba==3.9.1 numpy
-fi
-# Without it drjit picks an older LLVM and aborts.
-export DRJIT_LIBLLVM_PATH=$llvm
+source scripts/bench-venv.sh
 # A copy of the binary, so a rebuild during the run cannot change it.
 cp build/jaderender "$work/jaderender"
 export JADERENDER=$work/jaderender PERF_WORK=$work

@@ -56,6 +56,21 @@ void read_vec(const json& o, const char* key, glm::vec3& out, const std::string&
     out = glm::vec3(a[0], a[1], a[2]);
 }
 
+// settings.light_nee: an estimator's name, or true / false as older jobs
+// stored it.
+void read_light_nee(const json& settings, LightThroughBoundary& out, const std::string& file) {
+    if (!settings.contains("light_nee")) return;
+    const json& v = settings.at("light_nee");
+    try {
+        out = parse_light_through_boundary(v.is_boolean() ? (v.get<bool>() ? "true" : "false")
+                                                          : v.get<std::string>());
+    } catch (const json::exception&) {
+        fail_file(file, "'settings.light_nee' has the wrong type");
+    } catch (const Error& e) {
+        fail_file(file, "'settings.light_nee': " + std::string(e.what()));
+    }
+}
+
 }  // namespace
 
 std::string job_json(const RenderJob& job, const std::string& base_dir) {
@@ -86,7 +101,7 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
         {"settings", {{"spp", job.settings.spp}, {"time_limit", job.settings.time_limit},
                       {"target_error", job.settings.target_error}, {"seed", job.settings.seed},
                       {"max_depth", job.settings.integrator.max_depth},
-                      {"light_nee", job.settings.integrator.light_through_boundary}}},
+                      {"light_nee", to_string(job.settings.integrator.light_through_boundary)}}},
         {"outputs", {{"out", stored_path(job.out, base_dir)}, {"png", stored_path(job.png, base_dir)},
                      {"convergence", stored_path(job.convergence, base_dir)},
                      {"reference", stored_path(job.reference, base_dir)}, {"exposure", job.exposure}}}};
@@ -152,7 +167,7 @@ void read_camera_lights_settings(const json& j, RenderJob& job, const std::strin
     read(settings, "target_error", job.settings.target_error, file, "settings");
     read(settings, "seed", job.settings.seed, file, "settings");
     read(settings, "max_depth", job.settings.integrator.max_depth, file, "settings");
-    read(settings, "light_nee", job.settings.integrator.light_through_boundary, file, "settings");
+    read_light_nee(settings, job.settings.integrator.light_through_boundary, file);
     read(outputs, "out", job.out, file, "outputs");
     read(outputs, "png", job.png, file, "outputs");
     read(outputs, "convergence", job.convergence, file, "outputs");

@@ -5,6 +5,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -82,22 +83,75 @@ std::optional<SurfaceHit> MeshAccel::intersect(const glm::vec3& o, const glm::ve
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
+    return make_hit(rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v);
+}
+
+SurfaceHit MeshAccel::make_hit(float t, std::uint32_t triangle, float u, float v) const {
     SurfaceHit hit;
-    hit.t = rh.ray.tfar;
-    hit.triangle = rh.hit.primID;
-    hit.u = rh.hit.u;
-    hit.v = rh.hit.v;
+    hit.t = t;
+    hit.triangle = triangle;
+    hit.u = u;
+    hit.v = v;
     // Our own face normal, (p1 - p0) x (p2 - p0), whose orientation we define.
-    hit.geometric_normal = face_normals_[hit.triangle];
+    hit.geometric_normal = face_normals_[triangle];
     hit.shading_normal = hit.geometric_normal;
     if (!flat_) {
-        const auto& tri = mesh_.triangles[hit.triangle];
-        const glm::vec3 n = (1.f - hit.u - hit.v) * mesh_.normals[tri[0]] + hit.u * mesh_.normals[tri[1]] +
-                            hit.v * mesh_.normals[tri[2]];
+        const auto& tri = mesh_.triangles[triangle];
+        const glm::vec3 n = (1.f - u - v) * mesh_.normals[tri[0]] + u * mesh_.normals[tri[1]] +
+                            v * mesh_.normals[tri[2]];
         const float len = glm::length(n);
         if (len > 1e-6f) hit.shading_normal = n / len;
     }
     return hit;
+}
+
+std::optional<SurfaceHit> MeshAccel::intersect_triangle(const glm::vec3& o, const glm::vec3& d,
+                                                        std::uint32_t triangle) const {
+    const auto& tri = mesh_.triangles[triangle];
+    const glm::vec3& p0 = mesh_.positions[tri[0]];
+    const glm::vec3 e1 = mesh_.positions[tri[1]] - p0, e2 = mesh_.positions[tri[2]] - p0;
+    const glm::vec3 pv = glm::cross(d, e2);
+    const float det = glm::dot(e1, pv);
+    if (!(std::abs(det) > 0.f)) return std::nullopt;
+    const glm::vec3 tv = o - p0;
+    const float u = glm::dot(tv, pv) / det;
+    const glm::vec3 qv = glm::cross(tv, e1);
+    const float v = glm::dot(d, qv) / det;
+    const float t = glm::dot(e2, qv) / det;
+    if (!(u >= 0.f && v >= 0.f && u + v <= 1.f && t > 0.f)) return std::nullopt;
+    return make_hit(t, triangle, u, v);
+}
+
+// The shading normal is the normalised ñ = Σ b_i n_i over the barycentrics
+// b_i, which are linear in the position y on the triangle's plane: with
+// e1 = p1 − p0, e2 = p2 − p0 and N = e1 × e2, ∇b_1 = (e2 × N) / |N|² and
+// ∇b_2 = (N × e1) / |N|². The unit normal then varies as
+// dn = (I − n nᵀ) dñ / |ñ|.
+SurfaceDifferential MeshAccel::differential(const SurfaceHit& hit) const {
+    SurfaceDifferential sd;
+    const auto& tri = mesh_.triangles[hit.triangle];
+    const glm::vec3 e1 = mesh_.positions[tri[1]] - mesh_.positions[tri[0]];
+    const glm::vec3 e2 = mesh_.positions[tri[2]] - mesh_.positions[tri[0]];
+    const float e1_len = glm::length(e1);
+    if (!(e1_len > 0.f)) return sd;
+    sd.tangent[0] = e1 / e1_len;
+    sd.tangent[1] = glm::cross(hit.geometric_normal, sd.tangent[0]);
+    if (flat_) return sd;
+    const glm::vec3 N = glm::cross(e1, e2);
+    const float N2 = glm::dot(N, N);
+    const glm::vec3 grad_u = glm::cross(e2, N) / N2, grad_v = glm::cross(N, e1) / N2;
+    const glm::vec3& n0 = mesh_.normals[tri[0]];
+    const glm::vec3 nt = (1.f - hit.u - hit.v) * n0 + hit.u * mesh_.normals[tri[1]] +
+                         hit.v * mesh_.normals[tri[2]];
+    const float len = glm::length(nt);
+    if (!(len > 1e-6f)) return sd;  // the shading normal fell back to the face's
+    const glm::vec3 n = nt / len;
+    for (int k = 0; k < 2; ++k) {
+        const glm::vec3 dnt = (mesh_.normals[tri[1]] - n0) * glm::dot(grad_u, sd.tangent[k]) +
+                              (mesh_.normals[tri[2]] - n0) * glm::dot(grad_v, sd.tangent[k]);
+        sd.dn[k] = (dnt - n * glm::dot(n, dnt)) / len;
+    }
+    return sd;
 }
 
 }  // namespace jade

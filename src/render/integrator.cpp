@@ -18,29 +18,44 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // Spectral MIS bookkeeping (pbrt-v4's r_u / r_l). beta is the path
 // throughput divided by the hero channel's sampling density; r_u holds each
 // channel's density relative to the hero's, so beta / average(r_u) is the
-// balance-heuristic estimate across channels. r_l, set at a scattering
-// vertex, holds the density with which the light estimator would have made
-// the same direction, relative to the same hero density: a light hit then
-// weighs beta / average(r_u + r_l). All three are rescaled together after
-// every update (the quotients are unchanged) so that long paths neither
-// overflow nor underflow: average(r_u) stays 1.
+// balance-heuristic estimate across channels. A light hit that the light
+// estimator could also have made weighs beta / average(r_u + r_l), r_l the
+// estimator's density of the same path relative to the same hero density
+// (escape() forms it). Both are rescaled together after every update (the
+// quotients are unchanged) so that long paths neither overflow nor
+// underflow: average(r_u) stays 1.
 struct SpectralWeight {
     Spectrum beta{1.f};
     Spectrum r_u{1.f};
-    Spectrum r_l{0.f};
 
     void scale(const Spectrum& f) {
         beta *= f;
         r_u *= f;
-        r_l *= f;
         const float s = average(r_u);
         beta /= s;
         r_u /= s;
-        r_l /= s;
     }
 };
 
 }  // namespace
+
+const char* to_string(LightThroughBoundary estimator) {
+    switch (estimator) {
+    case LightThroughBoundary::Off: return "off";
+    case LightThroughBoundary::Auto: return "auto";
+    case LightThroughBoundary::Cone: return "cone";
+    case LightThroughBoundary::Manifold: return "manifold";
+    }
+    return "?";
+}
+
+LightThroughBoundary parse_light_through_boundary(const std::string& name) {
+    if (name == "auto" || name == "true") return LightThroughBoundary::Auto;
+    if (name == "manifold") return LightThroughBoundary::Manifold;
+    if (name == "cone") return LightThroughBoundary::Cone;
+    if (name == "off" || name == "false") return LightThroughBoundary::Off;
+    throw Error("--light-nee must be 'auto', 'manifold', 'cone' or 'off', not '" + name + "'");
+}
 
 void IntegratorSettings::validate() const {
     if (max_depth < 1) throw Error("--max-depth must be at least 1");
@@ -62,9 +77,12 @@ struct Integrator::PathState {
     bool light_excluded = false;  // the last vertex's estimator counted all of the light
     // MIS with the light estimator for the path class both sample (scatter,
     // refract out once, escape): set at scattering, kept while only null
-    // collisions follow, confirmed by one refraction out (r_l then counts).
+    // collisions follow, confirmed by one refraction out.
     bool mis_candidate = false;
     bool light_mis = false;
+    glm::vec3 scattered_at{0.f}, scattered_along{0.f};  // that scattering's vertex and direction
+    float phase_pdf = 0.f;                              // and the phase function's density of it
+    glm::vec3 exit_point{0.f};                          // where the path then refracted out
     int depth = 0, crossings = 0;
     glm::vec3 collision{0.f};  // where track() stopped at a real scattering
     PathSample out;
@@ -178,23 +196,22 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
 }
 
 // Next-event estimation from medium vertex p, then phase sampling. The
-// estimator's cone and the phase function's density of each other's
-// direction give the balance heuristic's weights.
+// estimator's and the phase function's densities of each other's direction
+// give the balance heuristic's weights; for a path that later leaves by one
+// refraction into the light, the estimator's density is asked at escape().
 void Integrator::estimate_light(PathState& s, const glm::vec3& p) const {
-    std::optional<UniformCone> cone;
     if (light_estimator_) {
         const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
-        cone = light_estimator_->cone(p);
-        if (cone) {
-            float pdf;
-            const glm::vec3 wl = cone->sample(u1, u2, pdf);
-            const LightArrival a = light_estimator_->arriving(p, wl, s.rng, s.counters);
-            const float f = scene_.phase.eval(s.d, wl);
-            if (light_estimator_->hits() == LightHits::Excluded)
-                s.out.radiance += s.w.beta * f * (a.radiance / pdf) * a.transmittance;
+        const auto ls = light_estimator_->sample(p, u1, u2, s.rng, s.counters);
+        if (ls && ls->radiance > 0.f) {
+            const float f = scene_.phase.eval(s.d, ls->direction);
+            const Spectrum arriving = ls->radiance * ls->transmittance;
+            if (ls->is_delta())
+                s.out.radiance += s.w.beta * f * arriving;
+            else if (light_estimator_->hits() == LightHits::Excluded)
+                s.out.radiance += s.w.beta * f * arriving / ls->pdf;
             else  // r_l = r_u · pdf_light and r_u · pdf_phase for this direction
-                s.out.radiance += s.w.beta * f * a.radiance * a.transmittance /
-                                  average(s.w.r_u * (pdf + f));
+                s.out.radiance += s.w.beta * f * arriving / average(s.w.r_u * (ls->pdf + f));
         }
     }
     const glm::vec3 d_in = s.d;
@@ -202,8 +219,12 @@ void Integrator::estimate_light(PathState& s, const glm::vec3& p) const {
     const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
     s.d = scene_.phase.sample(d_in, u1, u2);
     s.light_excluded = light_estimator_ && light_estimator_->hits() == LightHits::Excluded;
-    s.mis_candidate = cone && light_estimator_->hits() == LightHits::WeightedOnExit;
-    if (s.mis_candidate) s.w.r_l = s.w.r_u * (cone->pdf(s.d) / scene_.phase.eval(d_in, s.d));
+    s.mis_candidate = light_estimator_ && light_estimator_->hits() == LightHits::WeightedOnExit;
+    if (s.mis_candidate) {
+        s.scattered_at = p;
+        s.scattered_along = s.d;
+        s.phase_pdf = scene_.phase.eval(d_in, s.d);
+    }
 }
 
 // The boundary at `hit`: crossed as if absent when index-matched, otherwise
@@ -230,6 +251,7 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
                                                   s.rng.uniform());
         s.light_mis = s.mis_candidate && !entering && !bs.reflected;
         s.mis_candidate = false;
+        if (s.light_mis) s.exit_point = p;
         s.d = bs.direction;
         s.straight = false;
         s.light_excluded = false;
@@ -251,10 +273,17 @@ void Integrator::escape(PathState& s) const {
     }
     const Spectrum env = scene_.environment.radiance_toward(s.d);
     const float light = s.light_excluded ? 0.f : scene_.light.radiance_toward(s.d);
-    if (s.light_mis)
-        s.out.radiance += s.w.beta * env + s.w.beta * light / average(s.w.r_u + s.w.r_l);
-    else
+    if (s.light_mis && light > 0.f) {
+        // The estimator's density of the scattering's direction relative to
+        // the phase function's: the events since the scattering (null
+        // collisions, the refraction) scaled both strategies' densities alike.
+        const float pdf_light = light_estimator_->pdf(s.scattered_at, s.scattered_along,
+                                                      s.exit_point, s.d, s.counters);
+        const Spectrum r_l = s.w.r_u * (pdf_light / s.phase_pdf);
+        s.out.radiance += s.w.beta * env + s.w.beta * light / average(s.w.r_u + r_l);
+    } else {
         s.out.radiance += s.w.beta * (env + Spectrum(light));
+    }
 }
 
 // Russian roulette after an interaction, only once the throughput has fallen

@@ -12,6 +12,8 @@ PathCounters& PathCounters::operator+=(const PathCounters& o) {
     null_collisions += o.null_collisions;
     surface_events += o.surface_events;
     shadow_rays += o.shadow_rays;
+    manifold_walks += o.manifold_walks;
+    manifold_failures += o.manifold_failures;
     capped_paths += o.capped_paths;
     return *this;
 }

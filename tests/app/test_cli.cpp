@@ -230,6 +230,7 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         {"render --mesh " + kBlob + medium + " --reference " + kBlob + out, "blob.obj"},
         {"render --mesh " + kBlob + medium + " --out " + dir.file("no/such/r.exr"), "does not exist"},
         {"render --mesh " + kBlob + medium + " --spp 0" + out, "--spp"},
+        {"render --mesh " + kBlob + medium + " --light-nee sometimes" + out, "--light-nee"},
         // A fitting flag belongs to the pipeline, not to render.
         {"render --mesh " + kBlob + medium + " --render-seed 2" + out, "--render-seed"},
     };

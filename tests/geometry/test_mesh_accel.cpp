@@ -79,3 +79,51 @@ TEST_CASE("no ray escapes the closed box, not even along the triangles' shared e
         REQUIRE(glm::dot(hit->geometric_normal, d) > 0.f);  // leaving through the outside face
     }
 }
+
+TEST_CASE("the shading normal's derivatives match finite differences along the surface",
+          "[mesh_accel]") {
+    // On an icosphere with interpolated vertex normals, step from a hit
+    // along each tangent of its triangle (staying inside the triangle) and
+    // compare the change of the interpolated normal with the derivative.
+    const TriangleMesh m = icosphere(2, 1.f);
+    const MeshAccel accel(m);
+    SampleStream rng(7, 0, 0);
+    int checked = 0;
+    for (int i = 0; i < 200; ++i) {
+        const float z = 2.f * rng.uniform() - 1.f, phi = 6.2831853f * rng.uniform();
+        const float s = std::sqrt(std::max(0.f, 1.f - z * z));
+        const glm::vec3 dir(s * std::cos(phi), s * std::sin(phi), z);
+        const auto hit = accel.intersect({0, 0, 0}, dir, 0.f, 10.f);
+        REQUIRE(hit);
+        const SurfaceDifferential sd = accel.differential(*hit);
+        CHECK(std::abs(glm::dot(sd.tangent[0], hit->geometric_normal)) < 1e-5f);
+        CHECK(std::abs(glm::dot(sd.tangent[1], hit->geometric_normal)) < 1e-5f);
+        CHECK(std::abs(glm::dot(sd.tangent[0], sd.tangent[1])) < 1e-5f);
+        const glm::vec3 y = hit->t * dir;
+        for (int k = 0; k < 2; ++k) {
+            const float h = 1e-3f;
+            // The neighbour, found by a ray through it from the centre (the
+            // same triangle for points well inside it).
+            const glm::vec3 q = y + h * sd.tangent[k];
+            const auto hq = accel.intersect({0, 0, 0}, glm::normalize(q), 0.f, 10.f);
+            REQUIRE(hq);
+            if (hq->triangle != hit->triangle || std::abs(hq->t - glm::length(q)) > 1e-5f) continue;
+            const glm::vec3 fd = (hq->shading_normal - hit->shading_normal) / h;
+            INFO("derivative " << sd.dn[k].x << " " << sd.dn[k].y << " " << sd.dn[k].z
+                               << ", difference quotient " << fd.x << " " << fd.y << " " << fd.z);
+            // The normal turns by about 1 per unit length on a unit sphere;
+            // the quotient's error is O(h) plus float rounding / h.
+            CHECK(glm::length(fd - sd.dn[k]) < 0.02f);
+            CHECK(glm::length(sd.dn[k]) > 0.5f);
+            ++checked;
+        }
+    }
+    CHECK(checked > 300);
+    // Flat shading: the normal does not vary.
+    const MeshAccel flat(m, true);
+    const auto hit = flat.intersect({0, 0, 0}, glm::normalize(glm::vec3(0.2f, 0.5f, 0.8f)), 0.f, 10.f);
+    REQUIRE(hit);
+    const SurfaceDifferential sd = flat.differential(*hit);
+    CHECK(sd.dn[0] == glm::vec3(0.f));
+    CHECK(sd.dn[1] == glm::vec3(0.f));
+}

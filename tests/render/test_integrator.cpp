@@ -5,6 +5,7 @@
 // Tolerances are z-scores from the films' own per-pixel variance.
 
 #include "jade/geometry/mesh_io.h"
+#include "jade/render/dielectric.h"
 #include "jade/render/integrator.h"
 #include "jade/render/media/grid.h"
 #include "jade/render/media/homogeneous.h"
@@ -17,6 +18,8 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <functional>
+#include <vector>
 
 using namespace jade;
 
@@ -51,7 +54,8 @@ PinholeCamera camera_at(glm::vec3 origin, glm::vec3 target, float fov, int size,
 }
 
 RenderResult render_spp(const Scene& s, const PinholeCamera& cam, int spp, std::uint64_t seed = 1,
-                        int max_depth = IntegratorSettings{}.max_depth, bool light_nee = true) {
+                        int max_depth = IntegratorSettings{}.max_depth,
+                        LightThroughBoundary light_nee = LightThroughBoundary::Auto) {
     RenderSettings rs;
     rs.spp = spp;
     rs.seed = seed;
@@ -68,10 +72,12 @@ double relative_variance_per_sample(const Film& f, int spp) {
 
 // Films a and b, two estimates of one image, agree: z-scores per block
 // (8×8 unless told) below 4.5 and for the whole image below 4, per channel.
-void check_agreement(const Film& a, const Film& b, int block = 8) {
+void check_agreement(const Film& a, const Film& b, int block = 8,
+                     std::function<bool(int, int)> skip = {}) {
     jade_test::Expected e;
     e.width = a.width();
     e.height = a.height();
+    e.skip = std::move(skip);
     e.value = [&](int x, int y, int c) { return double(a.mean(x, y)[c]); };
     e.variance = [&](int x, int y, int c) { return double(a.variance_of_mean(x, y)[c]); };
     const jade_test::BlockZ z = jade_test::block_z_scores(b, e, block);
@@ -92,6 +98,46 @@ bool all_finite(const Film& f) {
     for (float v : f.rgba(true))
         if (!std::isfinite(v)) return false;
     return true;
+}
+
+// Single scattering in a slab 0 ≤ z ≤ d (100 wide) under a delta light at
+// θ_o from the normal, seen straight down, isotropic phase, black
+// environment, with max_depth cutting every path after its one scattering.
+// With θ_i the light's interior angle (sin θ_o = η sin θ_i) and t = 1 − s
+// the boundary's transmission weight (η = 1, t = 1 index-matched), a vertex
+// at depth z receives E t cos θ_o / (η² cos θ_i) e^(−σ_t z / cos θ_i) (Snell's
+// beam compression; the radiance convention has no η² factor:
+// docs/design.md, "Boundary"), so the pixel is
+//   L = t² E σ_s / (4π) · cos θ_o / (η² cos θ_i) · (1 − e^(−σ_t d k)) / (σ_t k),
+// k = 1 + 1 / cos θ_i. A chromatic medium exercises the spectral MIS weights.
+RenderResult check_slab_single_scattering(BoundaryMode mode, double theta_o_degrees, int max_depth,
+                                          std::uint64_t seed) {
+    const float d = 0.5f;
+    const TriangleMesh slab = jade_test::box_mesh({-50, -50, 0}, {50, 50, d});
+    const MeshAccel accel(slab, true);
+    const Spectrum sigma_s(0.8f, 2.f, 0.3f), sigma_a(0.4f, 1.f, 3.f);
+    const HomogeneousMedium medium(sigma_s, sigma_a);
+    Scene s = basic_scene(accel, &medium, mode, Spectrum(0.f));
+    const float irradiance = 2.f;
+    const double theta_o = theta_o_degrees * kPi / 180.0;
+    s.light = DirectionalLight({float(std::sin(theta_o)), 0.f, float(std::cos(theta_o))}, irradiance, 0.f);
+    RenderResult r = render_spp(s, camera_at({0, 0, 5}, {0, 0, 0}, 1, 32, {0, 1, 0}), 256, seed, max_depth);
+    const bool matched = mode == BoundaryMode::None;
+    const double eta = matched ? 1.0 : s.interface.ior, t = matched ? 1.0 : 1.0 - s.interface.specular;
+    const double theta_i = std::asin(std::sin(theta_o) / eta);
+    const double k = 1 + 1 / std::cos(theta_i);
+    Spectrum expect;
+    for (int c = 0; c < 3; ++c) {
+        const double st = sigma_s[c] + sigma_a[c];
+        expect[c] = float(t * t * irradiance * sigma_s[c] / (4 * kPi) * std::cos(theta_o) /
+                          (eta * eta * std::cos(theta_i)) * (1 - std::exp(-st * d * k)) / (st * k));
+    }
+    const auto z = jade_test::block_z_scores(r.film, constant_image(32, expect), 8);
+    INFO("expected " << expect.x << " " << expect.y << " " << expect.z << "; mean error "
+                     << z.mean_difference[0] << " " << z.mean_difference[1] << " " << z.mean_difference[2]);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
+    CHECK(z.max_abs_z < 4.5);
+    return r;
 }
 
 }  // namespace
@@ -148,31 +194,10 @@ TEST_CASE("Beer-Lambert: a pure absorber seen head-on transmits exp(-sigma_a d)"
 
 TEST_CASE("single scattering in a thin slab under a directional light matches the analytic value",
           "[integrator][render]") {
-    // Light straight down onto a slab of thickness d, camera straight down,
-    // isotropic phase, one interaction allowed (max depth 1), black
-    // environment: L = E σ_s / (4π) · (1 − exp(−2 σ_t d)) / (2 σ_t). This
-    // exercises next-event estimation, ratio-tracked shadow rays and the
-    // spectral MIS weights of a chromatic medium at once.
-    const float d = 0.5f;
-    const TriangleMesh slab = jade_test::box_mesh({-50, -50, 0}, {50, 50, d});
-    const MeshAccel accel(slab, true);
-    const Spectrum sigma_s(0.8f, 2.f, 0.3f), sigma_a(0.4f, 1.f, 3.f);
-    const HomogeneousMedium medium(sigma_s, sigma_a);
-    Scene s = basic_scene(accel, &medium, BoundaryMode::None, Spectrum(0.f));
-    const float irradiance = 2.f;
-    s.light = DirectionalLight({0, 0, 1}, irradiance, 0.f);
-    const RenderResult r =
-        render_spp(s, camera_at({0, 0, 5}, {0, 0, 0}, 1, 32, {0, 1, 0}), 256, 1, /*max_depth=*/1);
-    Spectrum expect;
-    for (int c = 0; c < 3; ++c) {
-        const double st = sigma_s[c] + sigma_a[c];
-        expect[c] = float(irradiance * sigma_s[c] / (4 * kPi) * (1 - std::exp(-2 * st * d)) / (2 * st));
-    }
-    const auto z = jade_test::block_z_scores(r.film, constant_image(32, expect), 8);
-    INFO("expected " << expect.x << " " << expect.y << " " << expect.z << "; mean error "
-                     << z.mean_difference[0] << " " << z.mean_difference[1] << " " << z.mean_difference[2]);
-    for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
-    CHECK(z.max_abs_z < 4.5);
+    // Index-matched, light straight down: next-event estimation by
+    // ratio-tracked shadow rays; one interaction allowed (crossings of an
+    // index-matched boundary are none).
+    check_slab_single_scattering(BoundaryMode::None, 0.0, /*max_depth=*/1, 1);
 }
 
 TEST_CASE("ratio tracking estimates transmittance without bias", "[integrator]") {
@@ -380,7 +405,7 @@ TEST_CASE("the directional light's two estimators agree: next-event estimation a
     hit.interface.mode = BoundaryMode::Fresnel;
     hit.interface.ior = 1.f;
     const RenderResult a = render_spp(nee, cam, 256, 5);
-    const RenderResult b = render_spp(hit, cam, 1024, 6, IntegratorSettings{}.max_depth, false);
+    const RenderResult b = render_spp(hit, cam, 1024, 6, IntegratorSettings{}.max_depth, LightThroughBoundary::Off);
     check_agreement(a.film, b.film);
     // And the light matters: the image is not black.
     CHECK(a.film.mean(16, 16).x > 0.01f);
@@ -424,17 +449,119 @@ TEST_CASE("the light through a refracting boundary: next-event estimation with M
             s.phase = PhaseFunction(0.4f);
             s.light = DirectionalLight({0.3f, 0.8f, 0.5f}, 3.f, 20.f);
             const PinholeCamera cam = camera_at(k.eye, centre(*k.mesh), 45, 32);
-            const RenderResult with = render_spp(s, cam, 256, 11);
-            const RenderResult without = render_spp(s, cam, 1024, 12, IntegratorSettings{}.max_depth, false);
-            // 16×16 blocks: disc hits alone are heavy-tailed (light found
-            // only by hitting it after internal reflections), so at 1024 spp
-            // an 8×8 block's sample variance is often short of its rare
-            // events; over 7 seed pairs the largest 8×8 |z| ranged 2.0–5.1.
-            check_agreement(without.film, with.film, 16);
-            // Per-sample variance at least 3 times lower (5 to 12 measured).
-            CHECK(3.0 * relative_variance_per_sample(with.film, 256) <
-                  relative_variance_per_sample(without.film, 1024));
-            CHECK(with.film.mean(16, 16).x > 0.005f);
+            const RenderResult without = render_spp(s, cam, 1024, 12, IntegratorSettings{}.max_depth,
+                                                    LightThroughBoundary::Off);
+            for (LightThroughBoundary estimator :
+                 {LightThroughBoundary::Cone, LightThroughBoundary::Manifold}) {
+                INFO("estimator " << to_string(estimator));
+                const RenderResult with =
+                    render_spp(s, cam, 256, 11, IntegratorSettings{}.max_depth, estimator);
+                // 16×16 blocks: disc hits alone are heavy-tailed (light found
+                // only by hitting it after internal reflections), so at 1024
+                // spp an 8×8 block's sample variance is often short of its
+                // rare events; over 7 seed pairs the largest 8×8 |z| ranged
+                // 2.0–5.1.
+                check_agreement(without.film, with.film, 16);
+                // Per-sample variance at least 3 times lower (5 to 12 measured).
+                CHECK(3.0 * relative_variance_per_sample(with.film, 256) <
+                      relative_variance_per_sample(without.film, 1024));
+                CHECK(with.film.mean(16, 16).x > 0.005f);
+            }
+        }
+    }
+}
+
+TEST_CASE("a delta light through a refracting slab: single scattering matches the analytic value",
+          "[integrator][render]") {
+    // The paper's lighting: a delta light behind the split boundary, at 35°
+    // from the normal, which only the manifold walk reaches; two
+    // interactions (the camera ray's refraction in, one scattering).
+    const RenderResult r = check_slab_single_scattering(BoundaryMode::Split, 35.0, 2, 3);
+    CHECK(r.counters.manifold_failures == 0);
+}
+
+namespace {
+
+// Pixels in which the camera sees the light through a purely specular
+// chain (reflected off the surface, or refracted in and out with up to
+// three internal reflections between): a disc light appears there as a
+// small bright image, a delta light as a point of zero area that no path
+// tracer samples. The chains are followed from 4×4 points per pixel; a
+// pixel within `margin_degrees` of the light, and its neighbours, are marked.
+std::vector<bool> specular_images(const Scene& s, const PinholeCamera& cam, float margin_degrees) {
+    const int w = cam.width(), h = cam.height();
+    std::vector<bool> near(std::size_t(w * h), false), marked(near.size(), false);
+    const float cos_margin = std::cos(float(margin_degrees * kPi / 180.0));
+    auto sees_light = [&](glm::vec3 d) { return glm::dot(d, s.light.direction()) > cos_margin; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < 16 && !near[std::size_t(y * w + x)]; ++k) {
+                glm::vec3 o = cam.origin();
+                glm::vec3 d = cam.direction((x + (k % 4 + 0.5f) / 4) / w, (y + (k / 4 + 0.5f) / 4) / h);
+                bool inside = false, found = false;
+                for (int event = 0; event < 5 && !found; ++event) {
+                    const auto hit = s.boundary->intersect(o, d, 0.f, 1e30f);
+                    if (!hit) break;
+                    const glm::vec3 n = interface_normal(*hit, d, !inside);
+                    const glm::vec3 p = o + hit->t * d;
+                    const glm::vec3 facing = glm::dot(d, n) < 0.f ? n : -n;
+                    const BoundaryTransmission t = boundary_transmission(s.interface, d, n, !inside);
+                    if (!inside) found = sees_light(reflect(d, facing));
+                    if (inside && t.weight > 0.f) found = found || sees_light(t.direction);
+                    // Outside: go in. Inside: reflect and look again.
+                    d = inside ? reflect(d, facing) : t.direction;
+                    if (!inside && t.weight <= 0.f) break;
+                    inside = true;
+                    o = s.offset(p, hit->geometric_normal, d);
+                }
+                near[std::size_t(y * w + x)] = found;
+            }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int j = -1; j <= 1; ++j)
+                for (int i = -1; i <= 1; ++i) {
+                    const int xx = x + i, yy = y + j;
+                    if (xx >= 0 && yy >= 0 && xx < w && yy < h && near[std::size_t(yy * w + xx)])
+                        marked[std::size_t(y * w + x)] = true;
+                }
+    return marked;
+}
+
+}  // namespace
+
+TEST_CASE("a delta light inside a dielectric sphere is the limit of shrinking disc lights",
+          "[integrator][render]") {
+    // The manifold walk's delta estimate, E·T/|dω/dw|, against a 1° disc
+    // around the same direction (next-event estimation by a density over
+    // the disc, MIS with disc hits), whose difference from the delta is
+    // second order in the radius (≈ 3e-4 of the image, below the noise
+    // here), for the split and Fresnel boundaries, with a forward-
+    // scattering phase function. (The cone estimator cannot serve here: at
+    // 1° its cone misses part of the disc's preimage, which is then found
+    // by rare disc hits only, and 128 spp fall short of it.) Left out of the comparison: the pixels
+    // where the disc is seen by specular chains alone (see above), and,
+    // by a dense medium, light that reaches a scattering vertex only after
+    // an internal reflection (a chain the one-refraction walk does not
+    // follow: docs/design.md, "Light estimators"): any such chord inside
+    // the sphere is longer than 2 cos θ_c = 1.56, so it is attenuated by
+    // e^(−1.56 σ_t) < 1e-4 here.
+    const MeshAccel accel(sphere());
+    const HomogeneousMedium medium(Spectrum(10.f, 8.f, 6.f), Spectrum(0.3f, 0.6f, 0.4f));
+    const PinholeCamera cam = camera_at({0, 0, 4}, {0, 0, 0}, 40, 32);
+    for (BoundaryMode mode : {BoundaryMode::Split, BoundaryMode::Fresnel}) {
+        SECTION(to_string(mode)) {
+            Scene delta = basic_scene(accel, &medium, mode, Spectrum(0.f));
+            delta.phase = PhaseFunction(0.4f);
+            delta.light = DirectionalLight({0.3f, 0.8f, 0.5f}, 3.f, 0.f);
+            Scene disc = delta;
+            disc.light = DirectionalLight({0.3f, 0.8f, 0.5f}, 3.f, 1.f);
+            const std::vector<bool> glints = specular_images(disc, cam, 12.f);
+            const RenderResult a = render_spp(delta, cam, 128, 21);
+            const RenderResult b = render_spp(disc, cam, 128, 22);
+            check_agreement(b.film, a.film, 8,
+                            [&](int x, int y) { return bool(glints[std::size_t(y * 32 + x)]); });
+            CHECK(a.film.mean(16, 16).x > 0.01f);
+            CHECK(a.counters.manifold_walks > 0);
         }
     }
 }

@@ -22,6 +22,15 @@ struct SurfaceHit {
     glm::vec3 shading_normal{};    // unit, interpolated vertex normals (or = geometric)
 };
 
+// How the surface varies around a hit, for walks along it (manifold next-
+// event estimation): two orthonormal tangents of the hit triangle's plane
+// and the derivatives of the unit shading normal along them (zero where the
+// shading is flat).
+struct SurfaceDifferential {
+    glm::vec3 tangent[2]{};
+    glm::vec3 dn[2]{};
+};
+
 class MeshAccel {
 public:
     // flat = true ignores vertex normals (shading normal = face normal).
@@ -33,15 +42,23 @@ public:
     // Closest hit with t in (tmin, tmax); direction must be unit length.
     std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& direction,
                                         float tmin, float tmax) const;
+    // The hit of a ray with one given triangle alone (Möller–Trumbore, t > 0),
+    // as intersect() would report it: for walks along the surface that stay
+    // on a triangle, without a BVH traversal. Nothing else is tested.
+    std::optional<SurfaceHit> intersect_triangle(const glm::vec3& origin, const glm::vec3& direction,
+                                                 std::uint32_t triangle) const;
     // At most the distance from p to the surface (0 outside the mesh's box):
     // cheap enough to ask at every collision.
     float clearance(const glm::vec3& p) const { return clearance_.at(p); }
     // Below this a clearance is not worth stepping by (one grid cell).
     float clearance_resolution() const { return clearance_.cell_size(); }
     const TriangleMesh& mesh() const { return mesh_; }
+    // The shading normal's variation at `hit` (a hit this accelerator returned).
+    SurfaceDifferential differential(const SurfaceHit& hit) const;
 
 private:
     struct Embree;
+    SurfaceHit make_hit(float t, std::uint32_t triangle, float u, float v) const;
     const TriangleMesh& mesh_;
     bool flat_;
     // Unit face normals, (p1 - p0) × (p2 - p0) normalised, one per triangle:

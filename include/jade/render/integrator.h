@@ -31,17 +31,27 @@
 #include "jade/render/tracking.h"
 
 #include <memory>
+#include <string>
 
 namespace jade {
+
+// Next-event estimation of the directional light through a smooth boundary
+// (render/light_estimator.h), each with MIS against disc hits: the manifold
+// walk, the guided cone, or `Auto`, the one that converges faster for the
+// light's size (the walk for small discs, the cone for wide ones). Off, the
+// light inside is found only by paths that happen to refract out into its
+// disc: same mean, more noise (for tests and benchmarks of the strategies).
+// A delta light is reached only by the manifold walk, whatever is chosen.
+enum class LightThroughBoundary { Off, Auto, Cone, Manifold };
+const char* to_string(LightThroughBoundary estimator);
+// "auto", "manifold", "cone" or "off"; "true" and "false" (what older jobs
+// stored) mean auto and off. Throws jade::Error naming --light-nee.
+LightThroughBoundary parse_light_through_boundary(const std::string& name);
 
 struct IntegratorSettings {
     int max_depth = 4096;  // surface + medium interactions; counted when reached
     int rr_depth = 8;      // interactions before Russian roulette starts
-    // Next-event estimation of the directional light through a smooth
-    // boundary (with MIS). Off, the light inside is found only by paths that
-    // happen to refract out into its disc: same mean, more noise (for tests
-    // and benchmarks of the two strategies).
-    bool light_through_boundary = true;
+    LightThroughBoundary light_through_boundary = LightThroughBoundary::Auto;
     void validate() const;
 };
 

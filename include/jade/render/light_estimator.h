@@ -1,10 +1,10 @@
 #pragma once
 // Light estimators: ways to find the directional light from a medium
 // scattering vertex other than waiting for a phase-sampled path to hit it
-// (docs/design.md, "Light estimators"). Each one samples a cone of directions
-// at the vertex and follows the chosen direction to the light; the
-// integrator weighs its estimate against phase sampling by multiple
-// importance sampling (the balance heuristic), through the cone's density.
+// (docs/design.md, "Light estimators"). Each one samples a direction at the
+// vertex toward the light and follows it there; the integrator weighs its
+// estimate against phase sampling by multiple importance sampling (the
+// balance heuristic) through the density of that direction.
 //
 // Variants live in render/light_estimators/:
 //   shadow_ray      straight shadow rays through an index-matched boundary;
@@ -12,6 +12,10 @@
 //   refracted_cone  through a smooth dielectric: a cone aimed so that it
 //                   refracts toward the light's disc, MIS-weighted against
 //                   paths that leave by one refraction
+//   manifold        through a smooth dielectric: a point of the light's disc
+//                   (or the delta light's one direction), and the refraction
+//                   path to it found by Newton's method on the surface
+//                   (render/specular_manifold.h); MIS-weighted like the cone
 // With none, the light is found only by paths that hit its disc.
 
 #include "jade/core/random.h"
@@ -33,23 +37,32 @@ enum class LightHits {
                        // by exactly one refraction after the scattering; others fully
 };
 
-// What arrives along a sampled direction: the light's radiance (times the
-// boundary's transmission weight on the way) and the medium's transmittance.
-struct LightArrival {
+// A sampled direction toward the light from a medium vertex and what
+// arrives along it: the light's radiance times the boundary's transmission
+// weight on the way, and the medium's transmittance. `pdf` is the
+// direction's solid-angle density at the vertex; 0 marks a delta sample, for
+// which `radiance` is already the integral over the delta (an irradiance at
+// the vertex). Radiance 0 when the way is blocked.
+struct LightSample {
+    glm::vec3 direction{0.f};
+    float pdf = 0.f;
     float radiance = 0.f;
     Spectrum transmittance{0.f};
+    bool is_delta() const { return !(pdf > 0.f); }
 };
 
 class LightEstimator {
 public:
     virtual ~LightEstimator() = default;
-    // The directions sampled at medium vertex p (none: nothing to find here).
-    virtual std::optional<UniformCone> cone(const glm::vec3& p) const = 0;
-    // The light arriving at p from direction w of cone(p), through what lies
-    // between (medium by ratio tracking, the boundary's transmission
-    // weight); radiance 0 when blocked. For a delta cone, the irradiance.
-    virtual LightArrival arriving(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
-                                  PathCounters& counters) const = 0;
+    // A direction from medium vertex p (none: this estimator finds nothing
+    // from p). u1, u2 uniform in [0, 1); rng for ratio tracking.
+    virtual std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2,
+                                              SampleStream& rng, PathCounters& counters) const = 0;
+    // For LightHits::WeightedOnExit: the density with which sample(p) makes
+    // direction w of a path that scattered at p, left the object at `exit`
+    // by one refraction and now travels along w_out inside the light's disc.
+    virtual float pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3& exit,
+                      const glm::vec3& w_out, PathCounters& counters) const = 0;
     virtual LightHits hits() const = 0;
 };
 

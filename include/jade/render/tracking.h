@@ -26,6 +26,8 @@ struct PathCounters {
     std::uint64_t null_collisions = 0;  // rejected tentative collisions
     std::uint64_t surface_events = 0;   // reflections and refractions at the boundary
     std::uint64_t shadow_rays = 0;
+    std::uint64_t manifold_walks = 0;     // Newton solves for a refraction toward the light
+    std::uint64_t manifold_failures = 0;  // of which did not converge (light not found)
     std::uint64_t capped_paths = 0;     // stopped by max_depth (a bias)
     std::uint64_t vertices() const { return real_collisions + surface_events; }
     PathCounters& operator+=(const PathCounters& o);

@@ -29,7 +29,26 @@ std::optional<UniformCone> RefractedConeEstimator::cone(const glm::vec3& p) cons
     return cone;
 }
 
-LightArrival RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3& w,
+std::optional<LightSample> RefractedConeEstimator::sample(const glm::vec3& p, float u1, float u2,
+                                                         SampleStream& rng,
+                                                         PathCounters& counters) const {
+    const auto c = cone(p);
+    if (!c) return std::nullopt;
+    float pdf;
+    const glm::vec3 w = c->sample(u1, u2, pdf);
+    LightSample ls = arriving(p, w, rng, counters);
+    ls.direction = w;
+    ls.pdf = pdf;
+    return ls;
+}
+
+float RefractedConeEstimator::pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3&,
+                                  const glm::vec3&, PathCounters&) const {
+    const auto c = cone(p);
+    return c ? c->pdf(w) : 0.f;
+}
+
+LightSample RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3& w,
                                               SampleStream& rng, PathCounters& counters) const {
     ++counters.shadow_rays;
     const auto hit = scene_.boundary->intersect(p, w, 0.f, kInfinity);
@@ -43,7 +62,10 @@ LightArrival RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec
     if (scene_.boundary->intersect(scene_.offset(y, hit->geometric_normal, out.direction),
                                    out.direction, 0.f, kInfinity))
         return {};  // the object itself is in the way
-    return {out.weight * le, ratio_tracking(*scene_.medium, p, w, hit->t, rng, counters)};
+    LightSample ls;
+    ls.radiance = out.weight * le;
+    ls.transmittance = ratio_tracking(*scene_.medium, p, w, hit->t, rng, counters);
+    return ls;
 }
 
 }  // namespace jade

@@ -2,16 +2,26 @@
 
 namespace jade {
 
-std::optional<UniformCone> ShadowRayEstimator::cone(const glm::vec3&) const {
-    return scene_.light.disc();
+std::optional<LightSample> ShadowRayEstimator::sample(const glm::vec3& p, float u1, float u2,
+                                                      SampleStream& rng,
+                                                      PathCounters& counters) const {
+    const UniformCone disc = scene_.light.disc();
+    LightSample ls;
+    ls.direction = disc.sample(u1, u2, ls.pdf);
+    // A delta light delivers its irradiance along its one direction.
+    if (disc.is_delta()) {
+        ls.pdf = 0.f;
+        ls.radiance = scene_.light.irradiance();
+    } else {
+        ls.radiance = scene_.light.disc_radiance();
+    }
+    ls.transmittance = transmittance(scene_, p, ls.direction, rng, counters);
+    return ls;
 }
 
-LightArrival ShadowRayEstimator::arriving(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
-                                          PathCounters& counters) const {
-    // A delta light delivers its irradiance along its one direction.
-    const float radiance =
-        scene_.light.is_delta() ? scene_.light.irradiance() : scene_.light.disc_radiance();
-    return {radiance, transmittance(scene_, p, w, rng, counters)};
+float ShadowRayEstimator::pdf(const glm::vec3&, const glm::vec3& w, const glm::vec3&,
+                              const glm::vec3&, PathCounters&) const {
+    return scene_.light.disc().pdf(w);
 }
 
 }  // namespace jade

@@ -22,12 +22,20 @@ namespace jade {
 class RefractedConeEstimator final : public LightEstimator {
 public:
     explicit RefractedConeEstimator(const Scene& scene) : scene_(scene) {}
-    std::optional<UniformCone> cone(const glm::vec3& p) const override;
-    LightArrival arriving(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
-                          PathCounters& counters) const override;
+    std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
+                                      PathCounters& counters) const override;
+    float pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3& exit, const glm::vec3& w_out,
+              PathCounters& counters) const override;
     LightHits hits() const override { return LightHits::WeightedOnExit; }
 
 private:
+    // The directions sampled at p (none when the guide cannot be found).
+    std::optional<UniformCone> cone(const glm::vec3& p) const;
+    // The light arriving at p along w: its radiance times the boundary's
+    // weight (0 when blocked), and the medium's transmittance.
+    LightSample arriving(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
+                         PathCounters& counters) const;
+
     const Scene& scene_;
 };
 

@@ -11,9 +11,10 @@ namespace jade {
 class ShadowRayEstimator final : public LightEstimator {
 public:
     explicit ShadowRayEstimator(const Scene& scene) : scene_(scene) {}
-    std::optional<UniformCone> cone(const glm::vec3& p) const override;
-    LightArrival arriving(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
-                          PathCounters& counters) const override;
+    std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
+                                      PathCounters& counters) const override;
+    float pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3& exit, const glm::vec3& w_out,
+              PathCounters& counters) const override;
     LightHits hits() const override { return LightHits::Excluded; }
 
 private:

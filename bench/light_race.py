@@ -1,0 +1,37 @@
+"""Relative MSE per pixel of the light estimators from pairs of renders.
+
+Two independent renders a, b of one image have E[(a - b)^2] = 2 Var, so the
+relative MSE of one render is the mean over covered pixels of
+(a - b)^2 / 2 / m^2, m = (a + b) / 2, on the mean of the three channels
+(pixels darker than 1e-4 left out). Usage: light_race.py RUNS RADIUS...
+"""
+import re
+import sys
+
+import mitsuba as mi
+import numpy as np
+
+mi.set_variant("scalar_rgb")
+
+
+def load(path):
+    return np.array(mi.Bitmap(path), dtype=np.float64)
+
+
+def spp(log_path):
+    found = re.findall(r"(\d+) spp in", open(log_path).read())
+    return found[-1] if found else "?"
+
+
+runs = sys.argv[1]
+print(f"{'radius':>6} {'estimator':>9} {'rel. MSE':>9} {'spp':>6}")
+for radius in sys.argv[2:]:
+    for estimator in ["off", "cone", "manifold"]:
+        stem = f"{runs}/r{radius}_{estimator}_s"
+        a, b = load(stem + "1.exr"), load(stem + "2.exr")
+        covered = (a[..., 3] > 0.5) & (b[..., 3] > 0.5)
+        la, lb = a[..., :3].mean(-1)[covered], b[..., :3].mean(-1)[covered]
+        m = 0.5 * (la + lb)
+        lit = m > 1e-4
+        rel_mse = np.mean((la - lb)[lit] ** 2 / 2 / m[lit] ** 2)
+        print(f"{radius:>6} {estimator:>9} {rel_mse:9.4f} {spp(stem + '1.log'):>6}")

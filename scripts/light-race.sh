@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The light estimators through the boundary at equal time (README, "How the
+# directional light reaches the inside"): the demo's volume in the vase,
+# 256², for each light radius and each --light-nee, two seeds; prints the
+# relative MSE per pixel from the two renders' difference.
+#   bash scripts/light-race.sh [seconds] [radii]      (default: 30 "20 5")
+# Runs the demo first when out/onyx002/report.json is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-30}
+radii=${2:-20 5}
+
+bash scripts/setup.sh
+source scripts/bench-venv.sh
+job=out/onyx002/report.json
+if [ ! -e "$job" ]; then
+    mkdir -p out
+    build/jaderender --photo data/photos/ambientcg_Onyx002_512_diff.jpg \
+        --mesh data/meshes/greek-vase-01.glb --out out/onyx002
+fi
+runs=$work/light-race
+mkdir -p "$runs"
+cp build/jaderender "$work/jaderender"
+for r in $radii; do
+    for e in off cone manifold; do
+        for seed in 1 2; do
+            "$work/jaderender" render --job "$job" --width 256 --height 256 --spp 1000000 \
+                --time "$seconds" --light-radius "$r" --light-nee "$e" --seed "$seed" \
+                --out "$runs/r${r}_${e}_s${seed}.exr" --png "" --convergence "" \
+                > "$runs/r${r}_${e}_s${seed}.log"
+        done
+    done
+done
+"$work/venv/bin/python" bench/light_race.py "$runs" $radii
