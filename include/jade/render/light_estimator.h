@@ -33,8 +33,8 @@ namespace jade {
 // How a phase-sampled path that meets the light by itself counts it.
 enum class LightHits {
     Excluded,          // the estimator counts all of the light: hits count none
-    WeightedOnExit,    // MIS against the cone, for paths that leave the object
-                       // by exactly one refraction after the scattering; others fully
+    WeightedOnExit,    // MIS against the estimator (its pdf()), for paths that leave the
+                       // object by exactly one refraction after the scattering; others fully
 };
 
 // A sampled direction toward the light from a medium vertex and what
