@@ -242,7 +242,8 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "is found only through one refraction, see --light-nee)")
         ->capture_default_str();
     cmd.add_option("--env", j.environment,
-                   "Environment: constant radiance (v or r,g,b) or a lat-long .exr/.hdr image")
+                   "Environment: constant radiance (v or r,g,b) or a lat-long .exr/.hdr image "
+                   "(importance-sampled; negative texels read as 0 with a warning)")
         ->capture_default_str();
     cmd.add_option("--env-scale", j.environment_scale, "Multiplies the environment")
         ->capture_default_str();
@@ -265,7 +266,9 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "(Newton's method finds the refraction toward a point of the light), 'cone' (a "
                    "guided cone of directions), 'auto' (manifold below 10 degrees of light radius, "
                    "cone above) or 'off' (only paths that refract out into the light's disc find "
-                   "it; same image, more noise). A delta light always uses 'manifold'")
+                   "it; same image, more noise). A delta light always uses 'manifold'. An "
+                   "environment image is importance-sampled through the boundary by the walk "
+                   "('off' turns that off too)")
         ->capture_default_str();
 }
 

@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # The light estimators through the boundary at equal time (README, "How the
-# directional light reaches the inside"): the demo's volume in the vase,
-# 256², for each light radius and each --light-nee, two seeds; prints the
+# lights reach the inside"): the demo's volume in the vase, 256², for each
+# light radius and each --light-nee, and under Blender's sunrise HDR (light
+# off) with the environment's walk off and on; two seeds each; prints the
 # relative MSE per pixel from the two renders' difference.
-#   bash scripts/light-race.sh [seconds] [radii]      (default: 30 "20 5")
+#   bash scripts/light-race.sh [seconds] [radii]      (default: 30 "20 5"; "" for the sky alone)
+# The sky renders are transparent: their MSE is over the object's pixels only.
 # Runs the demo first when out/onyx002/report.json is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-30}
-radii=${2:-20 5}
+radii=${2-20 5}
 
 bash scripts/setup.sh
 source scripts/bench-venv.sh
@@ -29,6 +31,15 @@ for r in $radii; do
                 --out "$runs/r${r}_${e}_s${seed}.exr" --png "" --convergence "" \
                 > "$runs/r${r}_${e}_s${seed}.log"
         done
+    done
+done
+for e in off auto; do
+    for seed in 1 2; do
+        "$work/jaderender" render --job "$job" --width 256 --height 256 --spp 1000000 \
+            --time "$seconds" --light-irradiance 0 --env data/hdri/blender_sunrise.exr --transparent \
+            --light-nee "$e" --seed "$seed" \
+            --out "$runs/sky_${e}_s${seed}.exr" --png "" --convergence "" \
+            > "$runs/sky_${e}_s${seed}.log" 2>&1
     done
 done
 "$work/venv/bin/python" bench/light_race.py "$runs" $radii

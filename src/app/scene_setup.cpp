@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace jade {
@@ -17,6 +18,26 @@ namespace {
 
 // More than this share of open edges makes "inside" meaningless.
 constexpr double kBadlyOpen = 0.01;
+
+// A lat-long environment image, with its problems named after the file.
+Environment environment_image(const std::string& path, float scale,
+                              std::vector<std::string>& warnings) {
+    if (!(scale >= 0.f) || !std::isfinite(scale)) throw Error("--env-scale must be non-negative");
+    ImageF32 image = read_image_f32(path);
+    std::optional<Environment> env;
+    try {
+        env.emplace(std::move(image), scale);
+    } catch (const Error& e) {
+        fail_file(path, e.what());
+    }
+    if (env->negative_texels() > 0) {
+        std::ostringstream w;
+        w << path << ": " << env->negative_texels() << " texel values of negative radiance (down to "
+          << env->most_negative() << ") read as 0";
+        warnings.push_back(w.str());
+    }
+    return *env;
+}
 
 }  // namespace
 
@@ -54,7 +75,7 @@ std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
     if (parse_vec3(job.environment, env)) {
         scene.environment = Environment(env * job.environment_scale);
     } else {
-        scene.environment = Environment(read_image_f32(job.environment), job.environment_scale);
+        scene.environment = environment_image(job.environment, job.environment_scale, prep->warnings);
     }
     if (!job.background.empty()) {
         prep->background.emplace(read_image_f32(job.background));

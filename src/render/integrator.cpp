@@ -74,12 +74,11 @@ struct Integrator::PathState {
     SpectralWeight w;
     bool inside = false;       // in the medium
     bool straight = true;      // still the camera ray (only index-matched crossings so far)
-    bool light_excluded = false;  // the last vertex's estimator counted all of the light
-    // MIS with the light estimator for the path class both sample (scatter,
-    // refract out once, escape): set at scattering, kept while only null
-    // collisions follow, confirmed by one refraction out.
-    bool mis_candidate = false;
-    bool light_mis = false;
+    // What the path did since its last scattering, for MIS with the light
+    // estimators (PathToLight): only null collisions and index-matched
+    // crossings (Straight), then exactly one refraction out (Refracted), or
+    // anything else (Other).
+    enum class Since { Other, Straight, Refracted } since = Since::Other;
     glm::vec3 scattered_at{0.f}, scattered_along{0.f};  // that scattering's vertex and direction
     float phase_pdf = 0.f;                              // and the phase function's density of it
     glm::vec3 exit_point{0.f};                          // where the path then refracted out
@@ -89,7 +88,7 @@ struct Integrator::PathState {
 };
 
 Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings)
-    : scene_(scene), settings_(settings), light_estimator_(make_light_estimator(scene, settings)) {
+    : scene_(scene), settings_(settings), estimators_(make_light_estimators(scene, settings)) {
     settings_.validate();
     if (!scene.boundary) throw Error("internal: a scene needs a boundary mesh");
 }
@@ -180,8 +179,8 @@ Integrator::Flight Integrator::track(PathState& s, float t_max, MediumProperties
     return result;
 }
 
-// A real scattering at s.collision: the light estimator's sample, then a new
-// direction from the phase function. False when the path is cut by max_depth.
+// A real scattering at s.collision: the light estimators' samples, then a
+// new direction from the phase function. False when the path is cut by max_depth.
 bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     if (s.depth >= settings_.max_depth) {  // one interaction too many
         ++s.counters.capped_paths;
@@ -189,42 +188,37 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     }
     ++s.depth;
     s.w.scale(m.sigma_s / m.sigma_s[s.hero]);
-    estimate_light(s, s.collision);
+    for (const LightEstimator* e : {estimators_.directional.get(), estimators_.environment.get()})
+        if (e) estimate_light(s, *e, s.collision);
+    const glm::vec3 d_in = s.d;
+    s.o = s.collision;
+    const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
+    s.d = scene_.phase.sample(d_in, u1, u2);
     s.straight = false;
-    s.light_mis = false;
+    s.since = PathState::Since::Straight;
+    s.scattered_at = s.collision;
+    s.scattered_along = s.d;
+    s.phase_pdf = scene_.phase.eval(d_in, s.d);
     return true;
 }
 
-// Next-event estimation from medium vertex p, then phase sampling. The
-// estimator's and the phase function's densities of each other's direction
-// give the balance heuristic's weights; for a path that later leaves by one
-// refraction into the light, the estimator's density is asked at escape().
-void Integrator::estimate_light(PathState& s, const glm::vec3& p) const {
-    if (light_estimator_) {
-        const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
-        const auto ls = light_estimator_->sample(p, u1, u2, s.rng, s.counters);
-        if (ls && ls->radiance > 0.f) {
-            const float f = scene_.phase.eval(s.d, ls->direction);
-            const Spectrum arriving = ls->radiance * ls->transmittance;
-            if (ls->is_delta())
-                s.out.radiance += s.w.beta * f * arriving;
-            else if (light_estimator_->hits() == LightHits::Excluded)
-                s.out.radiance += s.w.beta * f * arriving / ls->pdf;
-            else  // r_l = r_u · pdf_light and r_u · pdf_phase for this direction
-                s.out.radiance += s.w.beta * f * arriving / average(s.w.r_u * (ls->pdf + f));
-        }
-    }
-    const glm::vec3 d_in = s.d;
-    s.o = p;
+// Next-event estimation from medium vertex p with one estimator. Its and
+// the phase function's densities of each other's direction give the
+// balance heuristic's weights; for a path that later meets the light by
+// itself, the estimator's density is asked at escape().
+void Integrator::estimate_light(PathState& s, const LightEstimator& estimator,
+                                const glm::vec3& p) const {
     const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
-    s.d = scene_.phase.sample(d_in, u1, u2);
-    s.light_excluded = light_estimator_ && light_estimator_->hits() == LightHits::Excluded;
-    s.mis_candidate = light_estimator_ && light_estimator_->hits() == LightHits::WeightedOnExit;
-    if (s.mis_candidate) {
-        s.scattered_at = p;
-        s.scattered_along = s.d;
-        s.phase_pdf = scene_.phase.eval(d_in, s.d);
-    }
+    const auto ls = estimator.sample(p, u1, u2, s.rng, s.counters);
+    if (!ls || !(max_component(ls->radiance) > 0.f)) return;
+    const float f = scene_.phase.eval(s.d, ls->direction);
+    const Spectrum arriving = ls->radiance * ls->transmittance;
+    if (ls->is_delta())
+        s.out.radiance += s.w.beta * f * arriving;
+    else if (estimator.hits() == LightHits::Excluded)
+        s.out.radiance += s.w.beta * f * arriving / ls->pdf;
+    else  // r_l = r_u · pdf_light and r_u · pdf_phase for this direction
+        s.out.radiance += s.w.beta * f * arriving / average(s.w.r_u * (ls->pdf + f));
 }
 
 // The boundary at `hit`: crossed as if absent when index-matched, otherwise
@@ -246,15 +240,18 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
         }
         ++s.depth;
         ++s.counters.surface_events;
-        const BoundarySample bs = sample_boundary(scene_.interface, s.d,
-                                                  interface_normal(hit, s.d, entering), entering,
-                                                  s.rng.uniform());
-        s.light_mis = s.mis_candidate && !entering && !bs.reflected;
-        s.mis_candidate = false;
-        if (s.light_mis) s.exit_point = p;
+        const glm::vec3 n = interface_normal(hit, s.d, entering);
+        const float u = s.rng.uniform();
+        const std::optional<BoundarySample> sampled =
+            entering ? enter(s, p, ng, n, u) : sample_boundary(scene_.interface, s.d, n, false, u);
+        if (!sampled) return false;
+        const BoundarySample& bs = *sampled;
+        const bool refracted_out = !entering && !bs.reflected;
+        s.since = s.since == PathState::Since::Straight && refracted_out ? PathState::Since::Refracted
+                                                                         : PathState::Since::Other;
+        s.exit_point = p;
         s.d = bs.direction;
         s.straight = false;
-        s.light_excluded = false;
         if (!survive(s)) return false;
     }
     // Which side the ray continues on decides whether it is in the medium.
@@ -263,27 +260,66 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
     return true;
 }
 
-// The path leaves the scene: the environment, and the light's disc unless
-// the estimator counted it; a camera ray's backdrop is left to the renderer.
+// A ray arriving from outside at surface point p. Where its mirror image
+// leaves the scene at once (a camera ray's glint of the sky or the light),
+// the reflection's radiance is added with the reflectance as its weight
+// (next-event estimation of a specular event: the direction is known), and
+// the refracted branch is kept by Russian roulette with the transmittance
+// as its probability, weight 1; the reflected branch then ends, its light
+// counted. Choosing a branch at random instead puts the glint's whole
+// brightness into the samples that reflect, the noise that dominated glints
+// in the vase; following both would double the paths that enter the
+// medium, the expensive part. Whether to do this depends on the geometry
+// alone, so both cases stay unbiased. nullopt: the path ends.
+std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
+                                                const glm::vec3& n, float u) const {
+    const BoundaryTransmission t = boundary_transmission(scene_.interface, s.d, n, true);
+    const glm::vec3 mirror = reflect(s.d, glm::dot(s.d, n) < 0.f ? n : -n);
+    const bool glint = t.weight < 1.f && glm::dot(mirror, ng) > 0.f &&
+                       !scene_.boundary->intersect(scene_.offset(p, ng, mirror), mirror, 0.f, kInfinity);
+    if (!glint) return sample_boundary(scene_.interface, s.d, n, true, u);
+    ++s.counters.shadow_rays;
+    // No light estimator makes a path that reflects off the outside.
+    s.out.radiance += s.w.beta * (1.f - t.weight) *
+                      (scene_.environment.radiance_toward(mirror) + scene_.light.radiance_toward(mirror));
+    if (u >= t.weight) return std::nullopt;
+    return BoundarySample{t.direction, false};
+}
+
+// The path leaves the scene: the environment and the directional light,
+// each weighed against its estimator; a camera ray's backdrop is left to
+// the renderer.
 void Integrator::escape(PathState& s) const {
     if (s.straight) {
         s.out.backdrop_weight = s.w.beta;
         s.out.backdrop_direction = s.d;
         return;
     }
-    const Spectrum env = scene_.environment.radiance_toward(s.d);
-    const float light = s.light_excluded ? 0.f : scene_.light.radiance_toward(s.d);
-    if (s.light_mis && light > 0.f) {
-        // The estimator's density of the scattering's direction relative to
-        // the phase function's: the events since the scattering (null
-        // collisions, the refraction) scaled both strategies' densities alike.
-        const float pdf_light = light_estimator_->pdf(s.scattered_at, s.scattered_along,
-                                                      s.exit_point, s.d, s.counters);
-        const Spectrum r_l = s.w.r_u * (pdf_light / s.phase_pdf);
-        s.out.radiance += s.w.beta * env + s.w.beta * light / average(s.w.r_u + r_l);
-    } else {
-        s.out.radiance += s.w.beta * (env + Spectrum(light));
-    }
+    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment.get()) +
+                                  met_light(s, scene_.light, estimators_.directional.get()));
+}
+
+// The radiance a leaving path counts from `light`: all of it, unless the
+// estimator could have made the path since the last scattering too; then
+// none (LightHits::Excluded) or its balance-heuristic share: r_l is the
+// estimator's density of the scattering's direction relative to the phase
+// function's (the events since the scattering, null collisions and the
+// refraction, scaled both strategies' densities alike).
+Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
+                               const LightEstimator* estimator) const {
+    const Spectrum L = light.radiance_toward(s.d);
+    if (!(max_component(L) > 0.f)) return Spectrum(0.f);
+    if (!estimator || s.since == PathState::Since::Other) return L;
+    PathToLight path;
+    path.vertex = s.scattered_at;
+    path.direction = s.scattered_along;
+    path.leaving = s.d;
+    if (s.since == PathState::Since::Refracted) path.exit = s.exit_point;
+    const float pdf_light = estimator->pdf(path, s.counters);
+    if (!(pdf_light > 0.f)) return L;
+    if (estimator->hits() == LightHits::Excluded) return Spectrum(0.f);
+    const Spectrum r_l = s.w.r_u * (pdf_light / s.phase_pdf);
+    return L / average(s.w.r_u + r_l);
 }
 
 // Russian roulette after an interaction, only once the throughput has fallen

@@ -16,25 +16,46 @@ namespace {
 constexpr float kManifoldBelowDegrees = 10.f;
 }  // namespace
 
-std::unique_ptr<LightEstimator> make_light_estimator(const Scene& scene,
-                                                     const IntegratorSettings& settings) {
+namespace {
+std::unique_ptr<LightEstimator> directional_estimator(const Scene& scene,
+                                                      const IntegratorSettings& settings) {
     if (!scene.light.on()) return nullptr;
     if (scene.interface.mode == BoundaryMode::None)
-        return std::make_unique<ShadowRayEstimator>(scene);
-    // Behind a dielectric the light is reached only from a medium, and a
-    // delta light only through the manifold walk.
-    if (!scene.medium) return nullptr;
-    if (scene.light.is_delta()) return std::make_unique<ManifoldEstimator>(scene);
+        return std::make_unique<ShadowRayEstimator>(scene, scene.light, LightHits::Excluded);
+    // Behind a dielectric a delta light is reached only through the walk.
+    if (scene.light.is_delta()) return std::make_unique<ManifoldEstimator>(scene, scene.light);
     switch (settings.light_through_boundary) {
     case LightThroughBoundary::Auto:
         if (scene.light.angular_radius_degrees() < kManifoldBelowDegrees)
-            return std::make_unique<ManifoldEstimator>(scene);
+            return std::make_unique<ManifoldEstimator>(scene, scene.light);
         return std::make_unique<RefractedConeEstimator>(scene);
-    case LightThroughBoundary::Manifold: return std::make_unique<ManifoldEstimator>(scene);
+    case LightThroughBoundary::Manifold: return std::make_unique<ManifoldEstimator>(scene, scene.light);
     case LightThroughBoundary::Cone: return std::make_unique<RefractedConeEstimator>(scene);
     case LightThroughBoundary::Off: break;
     }
     return nullptr;
+}
+
+// A constant environment is met by every path that leaves, whatever its
+// direction: phase sampling already finds it as well as sampling it would.
+// Only an image, whose radiance varies over the sphere, is sampled. `off`
+// turns that off too, for tests and benchmarks; the cone is the disc's.
+std::unique_ptr<LightEstimator> environment_estimator(const Scene& scene,
+                                                      const IntegratorSettings& settings) {
+    if (!scene.environment.is_image() || scene.environment.black()) return nullptr;
+    if (settings.light_through_boundary == LightThroughBoundary::Off) return nullptr;
+    if (scene.interface.mode == BoundaryMode::None)
+        return std::make_unique<ShadowRayEstimator>(scene, scene.environment, LightHits::Weighted);
+    return std::make_unique<ManifoldEstimator>(scene, scene.environment);
+}
+}  // namespace
+
+LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings) {
+    LightEstimators e;
+    if (!scene.medium) return e;  // lights are estimated from medium vertices only
+    e.directional = directional_estimator(scene, settings);
+    e.environment = environment_estimator(scene, settings);
+    return e;
 }
 
 }  // namespace jade

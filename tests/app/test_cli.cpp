@@ -268,6 +268,29 @@ TEST_CASE("render: an open mesh is rendered with a warning, a badly open one ref
     CHECK(std::filesystem::exists(dir.file("r.exr")));
 }
 
+TEST_CASE("render: an HDR environment with small negative texels renders with a warning and a NaN one is refused",
+          "[cli][render]") {
+    TempDir dir;
+    // Real HDRs hold ringing down to about −0.004 around a bright sun.
+    std::vector<float> sky(16 * 8 * 3, 0.5f);
+    sky[5] = -0.004f;
+    jade::write_image_f32(dir.file("sky.exr"), 16, 8, 3, sky);
+    const std::string args = "render --mesh " + kBlob + " --sigma-s 2 --sigma-a 0.5 --width 8 --height 8 --spp 2 --env ";
+    const Result r = run(dir, args + dir.file("sky.exr") + " --out " + dir.file("r.exr"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("sky.exr") && Catch::Contains("1 texel values of negative radiance") &&
+                          Catch::Contains("read as 0"));
+    sky[7] = std::nanf("");
+    jade::write_image_f32(dir.file("nan.exr"), 16, 8, 3, sky);
+    std::filesystem::remove(dir.file("r.exr"));
+    const Result refused = run(dir, args + dir.file("nan.exr") + " --out " + dir.file("r.exr"));
+    CHECK(refused.code == 2);
+    CHECK(lines(refused.err) == 1);
+    CHECK_THAT(refused.err, Catch::Contains("nan.exr") && Catch::Contains("NaN"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("r.exr")));
+}
+
 // ---------------------------------------------------------------------------
 // jaderender --photo P --mesh M: the whole fit
 

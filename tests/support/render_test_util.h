@@ -13,6 +13,28 @@
 
 namespace jade_test {
 
+// A 64 × 32 lat-long HDR sky: a dim gradient, a black band over the last
+// rows, a sun of sun_size² texels at `sun` times the sky's brightness
+// (rows 8…, columns 40…: 40–56° from +y, a quarter turn from −z toward +x),
+// and the small negative texels real HDRs hold around a bright sun.
+inline jade::ImageF32 sun_and_sky_image(int sun_size, float sun) {
+    jade::ImageF32 img;
+    img.width = 64;
+    img.height = 32;
+    img.channels = 3;
+    img.pixels.assign(std::size_t(64 * 32 * 3), 0.f);
+    auto at = [&](int x, int y, int c) -> float& { return img.pixels[std::size_t((y * 64 + x) * 3 + c)]; };
+    for (int y = 0; y < 28; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int c = 0; c < 3; ++c) at(x, y, c) = 0.1f + 0.01f * float(y + c);
+    for (int y = 8; y < 8 + sun_size; ++y)
+        for (int x = 40; x < 40 + sun_size; ++x)
+            for (int c = 0; c < 3; ++c) at(x, y, c) = 0.1f * sun * float(c + 1);
+    at(40, 7, 0) = -0.004f;
+    at(40 + sun_size + 1, 8 + sun_size, 2) = -0.002f;
+    return img;
+}
+
 // Axis-aligned box [lo, hi], outward winding, face normals.
 inline jade::TriangleMesh box_mesh(glm::vec3 lo, glm::vec3 hi) {
     jade::TriangleMesh m;

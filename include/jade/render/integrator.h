@@ -13,10 +13,12 @@
 // Mitsuba 3's volpathmis). The estimate is unbiased in every channel and
 // bounded: no channel's weight exceeds 3.
 //
-// Lights: the environment is met by rays leaving the scene; the directional
-// light by rays leaving within its disc, and at every scattering vertex by
-// the scene's light estimator (render/light_estimator.h), weighed against
-// those hits by MIS with pbrt-v4's r_u / r_l bookkeeping. What a camera ray
+// Lights: the environment is met by rays leaving the scene, the directional
+// light by rays leaving within its disc; both are also estimated at every
+// scattering vertex by the scene's light estimators (render/light_estimator.h),
+// weighed against those hits by MIS with pbrt-v4's r_u / r_l bookkeeping.
+// Where a ray from outside would reflect straight out of the scene, the
+// reflection is counted at once and the refraction kept by roulette (enter()). What a camera ray
 // that leaves without interacting sees (background, environment or nothing)
 // is the renderer's to compose: the path returns its weight.
 //
@@ -31,6 +33,7 @@
 #include "jade/render/tracking.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace jade {
@@ -42,6 +45,8 @@ namespace jade {
 // light inside is found only by paths that happen to refract out into its
 // disc: same mean, more noise (for tests and benchmarks of the strategies).
 // A delta light is reached only by the manifold walk, whatever is chosen.
+// An environment image is sampled through the boundary by the walk unless
+// this is Off (render/light_estimator.h).
 enum class LightThroughBoundary { Off, Auto, Cone, Manifold };
 const char* to_string(LightThroughBoundary estimator);
 // "auto", "manifold", "cone" or "off"; "true" and "false" (what older jobs
@@ -80,14 +85,17 @@ private:
     Flight track(PathState& s, float t_max, MediumProperties& at) const;
     Flight fly(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
-    void estimate_light(PathState& s, const glm::vec3& p) const;
+    void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
+    std::optional<BoundarySample> enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
+                                        const glm::vec3& n, float u) const;
     void escape(PathState& s) const;
+    Spectrum met_light(PathState& s, const DistantLight& light, const LightEstimator* estimator) const;
     bool survive(PathState& s) const;
 
     const Scene& scene_;
     IntegratorSettings settings_;
-    std::unique_ptr<LightEstimator> light_estimator_;
+    LightEstimators estimators_;
 };
 
 }  // namespace jade

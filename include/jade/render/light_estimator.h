@@ -1,26 +1,29 @@
 #pragma once
-// Light estimators: ways to find the directional light from a medium
-// scattering vertex other than waiting for a phase-sampled path to hit it
-// (docs/design.md, "Light estimators"). Each one samples a direction at the
-// vertex toward the light and follows it there; the integrator weighs its
-// estimate against phase sampling by multiple importance sampling (the
-// balance heuristic) through the density of that direction.
+// Light estimators: ways to find a light at infinity (the directional light
+// or the environment image) from a medium scattering vertex other than
+// waiting for a phase-sampled path to meet it (docs/design.md, "Light
+// estimators"). Each one samples a direction at the vertex toward the light
+// and follows it there; the integrator weighs its estimate against phase
+// sampling by multiple importance sampling (the balance heuristic) through
+// the density of that direction.
 //
 // Variants live in render/light_estimators/:
-//   shadow_ray      straight shadow rays through an index-matched boundary;
-//                   it accounts for all the light (a delta light too)
-//   refracted_cone  through a smooth dielectric: a cone aimed so that it
-//                   refracts toward the light's disc, MIS-weighted against
-//                   paths that leave by one refraction
-//   manifold        through a smooth dielectric: a point of the light's disc
-//                   (or the delta light's one direction), and the refraction
-//                   path to it found by Newton's method on the surface
-//                   (render/specular_manifold.h); MIS-weighted like the cone
-// With none, the light is found only by paths that hit its disc.
+//   shadow_ray      straight shadow rays through an index-matched boundary
+//   refracted_cone  through a smooth dielectric, the directional light's
+//                   disc only: a cone aimed so that it refracts toward the
+//                   disc, MIS-weighted against paths that leave by one
+//                   refraction
+//   manifold        through a smooth dielectric: a direction drawn from the
+//                   light (a point of the disc, the delta light's one
+//                   direction, or the environment's importance sampling),
+//                   and the refraction path to it found by Newton's method
+//                   on the surface (render/specular_manifold.h)
+// Without one, a light is found only by paths that meet it.
 
 #include "jade/core/random.h"
 #include "jade/core/sampling.h"
 #include "jade/core/spectrum.h"
+#include "jade/render/light.h"
 #include "jade/render/tracking.h"
 
 #include <glm/vec3.hpp>
@@ -30,11 +33,11 @@
 
 namespace jade {
 
-// How a phase-sampled path that meets the light by itself counts it.
+// How a phase-sampled path that meets the light by itself counts it, when
+// the estimator could have made that path too (its pdf() is not 0).
 enum class LightHits {
-    Excluded,          // the estimator counts all of the light: hits count none
-    WeightedOnExit,    // MIS against the estimator (its pdf()), for paths that leave the
-                       // object by exactly one refraction after the scattering; others fully
+    Excluded,  // none: the estimator's samples count all of that light
+    Weighted,  // by MIS against the estimator's density of it
 };
 
 // A sampled direction toward the light from a medium vertex and what
@@ -46,30 +49,46 @@ enum class LightHits {
 struct LightSample {
     glm::vec3 direction{0.f};
     float pdf = 0.f;
-    float radiance = 0.f;
+    Spectrum radiance{0.f};
     Spectrum transmittance{0.f};
     bool is_delta() const { return !(pdf > 0.f); }
 };
 
+// A phase-sampled path from medium vertex `vertex` along `direction` that
+// left the scene along `leaving` with nothing on the way but null
+// collisions and either index-matched crossings (no `exit`; leaving =
+// direction) or exactly one refraction out, at `exit`.
+struct PathToLight {
+    glm::vec3 vertex{0.f}, direction{0.f}, leaving{0.f};
+    std::optional<glm::vec3> exit;
+};
+
 class LightEstimator {
 public:
+    explicit LightEstimator(const DistantLight& light) : light_(light) {}
     virtual ~LightEstimator() = default;
+    // The light this estimator finds.
+    const DistantLight& light() const { return light_; }
     // A direction from medium vertex p (none: this estimator finds nothing
     // from p). u1, u2 uniform in [0, 1); rng for ratio tracking.
     virtual std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2,
                                               SampleStream& rng, PathCounters& counters) const = 0;
-    // For LightHits::WeightedOnExit: the density with which sample(p) makes
-    // direction w of a path that scattered at p, left the object at `exit`
-    // by one refraction and now travels along w_out inside the light's disc.
-    virtual float pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3& exit,
-                      const glm::vec3& w_out, PathCounters& counters) const = 0;
+    // The density with which sample(path.vertex) makes path.direction, for
+    // a path that met the light by itself; 0 when it cannot make that path.
+    virtual float pdf(const PathToLight& path, PathCounters& counters) const = 0;
     virtual LightHits hits() const = 0;
+
+protected:
+    const DistantLight& light_;
 };
 
 struct IntegratorSettings;
-// The estimator a scene calls for (null: the light is found by hits only).
-// The scene must outlive it.
-std::unique_ptr<LightEstimator> make_light_estimator(const Scene& scene,
-                                                     const IntegratorSettings& settings);
+// The estimators a scene calls for: for its directional light and for its
+// environment (either may be null: that light is found by paths that meet
+// it). The scene must outlive them.
+struct LightEstimators {
+    std::unique_ptr<LightEstimator> directional, environment;
+};
+LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings);
 
 }  // namespace jade

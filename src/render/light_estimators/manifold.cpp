@@ -18,10 +18,9 @@ constexpr float kSameExit = 1e-3f;
 std::optional<LightSample> ManifoldEstimator::sample(const glm::vec3& p, float u1, float u2,
                                                      SampleStream& rng,
                                                      PathCounters& counters) const {
-    const UniformCone disc = scene_.light.disc();
-    float disc_pdf;
-    const glm::vec3 target = disc.sample(u1, u2, disc_pdf);
-    const auto exit = solve_refracted_exit(scene_, p, target, counters);
+    const DistantSample ds = light_.sample(u1, u2);
+    if (!light_.is_delta() && !(ds.pdf > 0.f)) return std::nullopt;
+    const auto exit = solve_refracted_exit(scene_, p, ds.direction, counters);
     if (!exit) return std::nullopt;
     ++counters.shadow_rays;
     LightSample ls;
@@ -30,25 +29,25 @@ std::optional<LightSample> ManifoldEstimator::sample(const glm::vec3& p, float u
     if (scene_.boundary->intersect(scene_.offset(y, exit->hit.geometric_normal, exit->exterior),
                                    exit->exterior, 0.f, kInfinity))
         return ls;  // the object itself is in the way
-    if (disc.is_delta()) {
-        ls.radiance = scene_.light.irradiance() * exit->transmission / exit->jacobian;
+    if (light_.is_delta()) {  // the irradiance, spread by the refraction's Jacobian
+        ls.radiance = ds.radiance * (exit->transmission / exit->jacobian);
     } else {
-        ls.pdf = disc_pdf * exit->jacobian;
-        ls.radiance = scene_.light.disc_radiance() * exit->transmission;
+        ls.pdf = ds.pdf * exit->jacobian;
+        ls.radiance = ds.radiance * exit->transmission;
     }
     ls.transmittance = ratio_tracking(*scene_.medium, p, exit->direction, exit->hit.t, rng, counters);
     return ls;
 }
 
-float ManifoldEstimator::pdf(const glm::vec3& p, const glm::vec3&, const glm::vec3& exit,
-                             const glm::vec3& w_out, PathCounters& counters) const {
-    const UniformCone disc = scene_.light.disc();
-    if (disc.is_delta()) return 0.f;
-    const auto found = solve_refracted_exit(scene_, p, w_out, counters);
+float ManifoldEstimator::pdf(const PathToLight& path, PathCounters& counters) const {
+    if (!path.exit || light_.is_delta()) return 0.f;
+    const float light_pdf = light_.pdf(path.leaving);
+    if (!(light_pdf > 0.f)) return 0.f;
+    const auto found = solve_refracted_exit(scene_, path.vertex, path.leaving, counters);
     if (!found) return 0.f;
-    const glm::vec3 y = p + found->hit.t * found->direction;
-    if (glm::length(y - exit) > kSameExit * found->hit.t) return 0.f;  // another solution
-    return disc.pdf(w_out) * found->jacobian;
+    const glm::vec3 y = path.vertex + found->hit.t * found->direction;
+    if (glm::length(y - *path.exit) > kSameExit * found->hit.t) return 0.f;  // another solution
+    return light_pdf * found->jacobian;
 }
 
 }  // namespace jade

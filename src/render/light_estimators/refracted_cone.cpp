@@ -42,10 +42,10 @@ std::optional<LightSample> RefractedConeEstimator::sample(const glm::vec3& p, fl
     return ls;
 }
 
-float RefractedConeEstimator::pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3&,
-                                  const glm::vec3&, PathCounters&) const {
-    const auto c = cone(p);
-    return c ? c->pdf(w) : 0.f;
+float RefractedConeEstimator::pdf(const PathToLight& path, PathCounters&) const {
+    if (!path.exit) return 0.f;
+    const auto c = cone(path.vertex);
+    return c ? c->pdf(path.direction) : 0.f;
 }
 
 LightSample RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3& w,
@@ -56,8 +56,8 @@ LightSample RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3
     const BoundaryTransmission out =
         boundary_transmission(scene_.interface, w, interface_normal(*hit, w, false), false);
     if (!(out.weight > 0.f)) return {};
-    const float le = scene_.light.radiance_toward(out.direction);
-    if (!(le > 0.f)) return {};
+    const Spectrum le = scene_.light.radiance_toward(out.direction);
+    if (!(max_component(le) > 0.f)) return {};
     const glm::vec3 y = p + hit->t * w;
     if (scene_.boundary->intersect(scene_.offset(y, hit->geometric_normal, out.direction),
                                    out.direction, 0.f, kInfinity))

@@ -1,10 +1,11 @@
 #pragma once
-// Manifold next-event estimation of the directional light through a smooth
+// Manifold next-event estimation of a light at infinity through a smooth
 // dielectric boundary (Hanika et al. 2015), for one refraction: an exterior
-// direction ω is drawn from the light's disc (or is the delta light's one
-// direction), and the interior direction w from the vertex that leaves along
+// direction ω is drawn from the light (a point of the directional light's
+// disc, the delta light's one direction, or the environment image's
+// importance sampling), and the interior direction w from the vertex that leaves along
 // ω is found by Newton's method on the surface (render/specular_manifold.h).
-// Its density at the vertex is the disc's density times |dω/dw|, so the
+// Its density at the vertex is the light's density of ω times |dω/dw|, so the
 // sample is weighed against phase sampling by MIS exactly like the cone's
 // (a phase-sampled path that leaves by one refraction counts the light with
 // the density the solver would have given its direction, 0 when the solver
@@ -20,14 +21,12 @@ namespace jade {
 
 class ManifoldEstimator final : public LightEstimator {
 public:
-    explicit ManifoldEstimator(const Scene& scene) : scene_(scene) {}
+    ManifoldEstimator(const Scene& scene, const DistantLight& light)
+        : LightEstimator(light), scene_(scene) {}
     std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
                                       PathCounters& counters) const override;
-    float pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3& exit, const glm::vec3& w_out,
-              PathCounters& counters) const override;
-    LightHits hits() const override {
-        return scene_.light.is_delta() ? LightHits::Excluded : LightHits::WeightedOnExit;
-    }
+    float pdf(const PathToLight& path, PathCounters& counters) const override;
+    LightHits hits() const override { return LightHits::Weighted; }
 
 private:
     const Scene& scene_;

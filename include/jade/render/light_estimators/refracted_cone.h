@@ -21,12 +21,12 @@ namespace jade {
 
 class RefractedConeEstimator final : public LightEstimator {
 public:
-    explicit RefractedConeEstimator(const Scene& scene) : scene_(scene) {}
+    // For the scene's directional light (a disc, not a delta light).
+    explicit RefractedConeEstimator(const Scene& scene) : LightEstimator(scene.light), scene_(scene) {}
     std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
                                       PathCounters& counters) const override;
-    float pdf(const glm::vec3& p, const glm::vec3& w, const glm::vec3& exit, const glm::vec3& w_out,
-              PathCounters& counters) const override;
-    LightHits hits() const override { return LightHits::WeightedOnExit; }
+    float pdf(const PathToLight& path, PathCounters& counters) const override;
+    LightHits hits() const override { return LightHits::Weighted; }
 
 private:
     // The directions sampled at p (none when the guide cannot be found).
