@@ -551,6 +551,7 @@ int main(int argc, char** argv) {
     auto add_threads = [&threads](CLI::App& cmd) {
         cmd.add_option("--threads", threads,
                        "Worker threads (0 = all cores); results do not depend on it")
+            ->check(CLI::Range(0, 4096))
             ->capture_default_str();
     };
     add_threads(app);

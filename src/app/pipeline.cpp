@@ -13,7 +13,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 
 namespace jade {
@@ -21,16 +20,6 @@ namespace jade {
 namespace {
 
 namespace fs = std::filesystem;
-
-void write_text(const std::string& path, const std::string& text) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path());
-        out << text;
-        if (!out) fail_file(path, "cannot write");
-    }
-    file.commit();
-}
 
 // The output folder, refused before any work when its parent does not exist.
 std::string output_folder(const PipelineOptions& o) {
@@ -132,7 +121,7 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     const float exposure = res.fit.exposure;
     write_material_vdb(out("volume.vdb"), volume);
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);
-    write_text(out("fit.csv"), fit_csv(res.fit.records));
+    write_text_file(out("fit.csv"), fit_csv(res.fit.records));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);
     const DisplayStatistics final_stats = display_statistics(res.final_render.film, exposure);
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
@@ -154,7 +143,7 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     const RenderJob replay = replay_job(o, prep, res.out_dir, exposure);
     res.seconds_write = clock.seconds();
     res.seconds_total += res.seconds_write;
-    write_text(out("report.json"),
+    write_text_file(out("report.json"),
                pipeline_report({o, res, volume, photo, final_stats, replay, res.out_dir}));
     res.written.push_back(out("report.json"));
 }

@@ -37,7 +37,16 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
     if (job.volume.empty() && (job.ks || job.contrast))
         throw Error("--ks and --contrast apply to a jaderender --volume, not to a homogeneous medium");
-    require_output_folder(job.out);
+    // Every output's folder is checked before any work, so none is written
+    // unless all can be.
+    std::string png = job.png == "auto" ? sibling(job.out, ".png") : job.png;
+    if (png == job.out) png.clear();  // --out x.png: the PNG is the output itself
+    const std::string csv =
+        job.convergence == "auto"
+            ? (std::filesystem::path(job.out).parent_path() / "convergence.csv").string()
+            : job.convergence;
+    for (const std::string& path : {job.out, png, csv})
+        if (!path.empty()) require_output_folder(path);
     RenderJobResult result;
     result.exposure = job.exposure > 0.f ? job.exposure : 1.f;
     const Stopwatch load_clock;
@@ -102,11 +111,6 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     result.render = render(prep->scene, camera, settings, progress, on_pass);
     if (progress) progress->finish();
 
-    const std::string png = job.png == "auto" ? sibling(job.out, ".png") : job.png;
-    const std::string csv =
-        job.convergence == "auto"
-            ? (std::filesystem::path(job.out).parent_path() / "convergence.csv").string()
-            : job.convergence;
     write_film(result.render.film, job.out, png, job.transparent, result.exposure);
     result.written.push_back(job.out);
     if (!png.empty()) result.written.push_back(png);

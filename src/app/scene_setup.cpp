@@ -62,6 +62,12 @@ std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
                                     "or pass --allow-open");
         prep->warnings.push_back(w.str());
     }
+    // A closed mesh whose triangles face inward puts the medium outside it.
+    if (topo.closed() && signed_volume(prep->mesh) < 0.0) {
+        reverse_orientation(prep->mesh);
+        prep->warnings.push_back(job.mesh + ": the mesh's triangles face inward (its volume is "
+                                            "negative); their winding was reversed");
+    }
     prep->accel = std::make_unique<MeshAccel>(prep->mesh, job.flat_normals);
     prep->cube = bounding_cube(prep->mesh);
 

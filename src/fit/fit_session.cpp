@@ -61,6 +61,7 @@ double next_contrast(double g, double s, double target, bool have_prev, double g
 }  // namespace
 
 void FitOptions::validate() const {
+    if (!(k_max > 0.0) || !std::isfinite(k_max)) throw Error("--ks-max must be positive and finite");
     if (max_renders < 1) throw Error("--fit-max-renders must be at least 1");
     if (max_renders < 2 && (bisects(method) || exposure == 0.f))
         throw Error("--fit-max-renders must be at least 2: the fit starts with renders at both k_s bounds");

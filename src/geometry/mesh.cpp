@@ -23,6 +23,25 @@ glm::vec3 TriangleMesh::face_normal(std::size_t t) const {
     return glm::cross(p1 - p0, p2 - p0);
 }
 
+double signed_volume(const TriangleMesh& mesh) {
+    // Relative to the bounding box's centre, so that a mesh far from the
+    // origin does not lose the volume to cancellation.
+    const glm::dvec3 c(mesh.bounds().centre());
+    double v = 0;
+    for (const auto& tri : mesh.triangles) {
+        const glm::dvec3 p0 = glm::dvec3(mesh.positions[tri[0]]) - c;
+        const glm::dvec3 p1 = glm::dvec3(mesh.positions[tri[1]]) - c;
+        const glm::dvec3 p2 = glm::dvec3(mesh.positions[tri[2]]) - c;
+        v += glm::dot(p0, glm::cross(p1, p2));
+    }
+    return v / 6.0;
+}
+
+void reverse_orientation(TriangleMesh& mesh) {
+    for (auto& tri : mesh.triangles) std::swap(tri[1], tri[2]);
+    for (auto& n : mesh.normals) n = -n;
+}
+
 // Area-weighted vertex normals over vertices welded by position, so a file
 // that splits vertices along UV seams still gets smooth normals across them.
 void compute_vertex_normals(TriangleMesh& mesh) {

@@ -13,10 +13,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <unordered_map>
 
 namespace jade {
@@ -29,7 +32,29 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
+// tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1e999"
+// overflows aside) as 0, silently; its vertex lines are parsed again here
+// with strtof, which knows those words, so that they are refused instead.
+void check_obj_coordinates(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    for (long number = 1; std::getline(in, line); ++number) {
+        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+        const char* p = line.c_str() + 1;
+        for (int k = 0; k < 3; ++k) {
+            char* end = nullptr;
+            const float v = std::strtof(p, &end);
+            if (end == p)
+                fail_file(path, "line " + std::to_string(number) + ": a vertex needs three numbers");
+            if (!std::isfinite(v))
+                fail_file(path, "line " + std::to_string(number) + ": a NaN or infinite vertex coordinate");
+            p = end;
+        }
+    }
+}
+
 TriangleMesh load_obj(const std::string& path) {
+    check_obj_coordinates(path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
@@ -235,11 +260,29 @@ TriangleMesh load_mesh(const std::string& path) {
 
 void validate_mesh(const TriangleMesh& mesh) {
     if (mesh.triangles.empty()) fail_file(mesh.path, "the mesh has no triangle");
-    for (const auto& p : mesh.positions)
+    float reach = 0.f;
+    for (const auto& p : mesh.positions) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             fail_file(mesh.path, "the mesh has a NaN or infinite vertex coordinate");
+        reach = std::max({reach, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    }
     const glm::vec3 e = mesh.bounds().extent();
-    if (std::max({e.x, e.y, e.z}) <= 0.f) fail_file(mesh.path, "the mesh has zero size");
+    const float size = std::max({e.x, e.y, e.z});
+    if (size <= 0.f) fail_file(mesh.path, "the mesh has zero size");
+    bool any_area = false;
+    for (std::size_t t = 0; t < mesh.triangles.size() && !any_area; ++t)
+        any_area = glm::length(mesh.face_normal(t)) > 0.f;
+    if (!any_area) fail_file(mesh.path, "every triangle of the mesh is degenerate (zero area)");
+    std::ostringstream size_text;
+    size_text << size;
+    if (size < kMinMeshSize || size > kMaxMeshSize)
+        fail_file(mesh.path, "the mesh is " + size_text.str() +
+                                 " units across; rescale it to between 1e-6 and 1e7 (single-precision "
+                                 "ray tracing loses it outside that range)");
+    if (size < kMinMeshSizePerReach * reach)
+        fail_file(mesh.path, "the mesh is " + size_text.str() +
+                                 " units across but lies far from the origin; move it toward the origin "
+                                 "(single precision cannot resolve it there)");
 }
 
 FileCamera load_gltf_camera(const std::string& path) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 namespace jade {
@@ -41,6 +42,19 @@ void AtomicFile::commit() {
         fail_file(destination_, "cannot write: " + why);
     }
     committed_ = true;
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+    AtomicFile file(path);
+    {
+        std::ofstream out(file.temp_path(), std::ios_base::out | std::ios_base::trunc);
+        out << text;
+        out.flush();  // a full disk shows at the flush, not at <<
+        const bool written = bool(out);
+        out.close();
+        if (!written || out.fail()) fail_file(path, std::string("cannot write: ") + std::strerror(errno));
+    }
+    file.commit();
 }
 
 unsigned long long file_size(const std::string& path) {

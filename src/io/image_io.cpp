@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace jade {
@@ -46,6 +47,7 @@ void write_image_f32(const std::string& path, int width, int height, int channel
     write_image(path, width, height, channels, pixels, OIIO::TypeDesc::FLOAT, associated_alpha);
 }
 
+
 ImageF32 read_image_f32(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
@@ -56,11 +58,20 @@ ImageF32 read_image_f32(const std::string& path) {
     ImageF32 img;
     img.width = spec.width;
     img.height = spec.height;
-    img.channels = spec.nchannels;
+    img.channels = std::min(spec.nchannels, kMaxImageChannels);  // RGBA; further channels are not ours
     if (img.width < 1 || img.height < 1 || img.channels < 1) fail_file(path, "image has no pixels");
+    // The header's size is checked before anything is allocated for it.
+    if (std::int64_t(img.width) * img.height > kMaxImagePixels)
+        fail_file(path, "the image is " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                            " pixels, more than the " + std::to_string(kMaxImagePixels / 1000000) +
+                            " million read here");
     img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
-    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-        fail_file(path, "cannot decode: " + in->geterror());
+    // A decoder may fill what it could not read (a truncated JPEG decodes as
+    // grey below the cut) and report it only as a message: any message is a failure.
+    const bool read = in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+    const std::string message = in->geterror();
+    if (!read || !message.empty())
+        fail_file(path, "cannot decode" + (message.empty() ? std::string() : ": " + message));
     const bool linear = spec.format.is_floating_point();
     const std::string space = spec.get_string_attribute("oiio:ColorSpace");
     if (!linear && space != "Linear" && space != "linear") {

@@ -7,8 +7,11 @@
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 namespace jade {
@@ -127,6 +130,35 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
 
 }  // namespace
 
+namespace {
+// openvdb::io::File::write neither checks its stream after writing nor
+// reports a failed close: on a full disk it leaves a truncated file and
+// returns normally. The same archive writer (grid offsets included, so the
+// file reads back by slabs) is run here on a stream this code checks.
+class CheckedVdbFile : public openvdb::io::File {
+public:
+    using openvdb::io::File::File;
+    void write_to(std::ofstream& os, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta) const {
+        openvdb::io::Archive::write(os, grids, /*seekable=*/true, meta);
+    }
+};
+
+void write_checked(const AtomicFile& out, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta) {
+    const std::string& temp = out.temp_path();
+    CheckedVdbFile file(temp);
+    // Blosc (LZ4) writes several times faster than zip at a similar size.
+    file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+    std::ofstream os(temp, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
+    if (!os) fail_file(out.destination(), "cannot open for writing");
+    file.write_to(os, grids, meta);
+    os.flush();
+    const bool written = bool(os);
+    os.close();
+    if (!written || os.fail())
+        fail_file(out.destination(), std::string("the write failed (") + std::strerror(errno) + "); is the disk full?");
+}
+}  // namespace
+
 void write_material_vdb(const std::string& path, const MaterialVolume& v) {
     openvdb::initialize();
     const int s = v.resolution;
@@ -137,9 +169,6 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
 
     AtomicFile out(path);
     try {
-        openvdb::io::File file(out.temp_path());
-        // Blosc (LZ4) writes several times faster than zip at a similar size.
-        file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
         // Half floats when sigma_a pins down every level (d_a > 0): their
         // relative error (<= 2^-11) is far below the spacing of adjacent levels
         // (>= 1/255 relative), so nothing the levels say is lost, and the file
@@ -147,8 +176,7 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
         // come from sigma_s, where a large k_s would eat that margin: full floats.
         const bool half = v.optics.da > 0.0;
         for (const auto& g : grids) g->setSaveFloatAsHalf(half);
-        file.write(grids, meta);
-        file.close();
+        write_checked(out, grids, meta);
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot write OpenVDB file: ") + e.what());
     }

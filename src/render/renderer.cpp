@@ -10,7 +10,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 namespace jade {
 
@@ -147,20 +146,15 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
 }
 
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path());
-        out << "pass,spp,seconds,estimated_rel_error,rmse,rel_mse\n";
-        char line[256];
-        for (const PassRecord& r : passes) {
-            std::snprintf(line, sizeof line, "%d,%d,%.4f,%.6g,%s,%s\n", r.pass, r.spp, r.seconds,
-                          r.estimated_error, r.rmse < 0 ? "" : std::to_string(r.rmse).c_str(),
-                          r.rel_mse < 0 ? "" : std::to_string(r.rel_mse).c_str());
-            out << line;
-        }
-        if (!out) fail_file(path, "cannot write");
+    std::string text = "pass,spp,seconds,estimated_rel_error,rmse,rel_mse\n";
+    char line[256];
+    for (const PassRecord& r : passes) {
+        std::snprintf(line, sizeof line, "%d,%d,%.4f,%.6g,%s,%s\n", r.pass, r.spp, r.seconds,
+                      r.estimated_error, r.rmse < 0 ? "" : std::to_string(r.rmse).c_str(),
+                      r.rel_mse < 0 ? "" : std::to_string(r.rel_mse).c_str());
+        text += line;
     }
-    file.commit();
+    write_text_file(path, text);
 }
 
 }  // namespace jade

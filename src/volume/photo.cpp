@@ -74,25 +74,33 @@ RawImage read_raw(const std::string& path) {
     QuietStderr quiet;
     auto in = OIIO::ImageInput::open(path, &config);
     if (!in) {
-        std::string why = OIIO::geterror();
+        const std::string why = OIIO::geterror();
         fail_file(path, "cannot read as an image (" + (why.empty() ? "unknown format" : why) + ")");
     }
     const OIIO::ImageSpec& spec = in->spec();
     RawImage img;
     img.width = spec.width;
     img.height = spec.height;
-    img.channels = spec.nchannels;
-    img.alpha_channel = spec.alpha_channel;
+    img.channels = std::min(spec.nchannels, kMaxImageChannels);
+    img.alpha_channel = spec.alpha_channel < img.channels ? spec.alpha_channel : -1;
     if (img.alpha_channel < 0 && (img.channels == 2 || img.channels == 4))
         img.alpha_channel = img.channels - 1;  // gray+alpha or RGBA without the tag
     img.linear = spec.format.is_floating_point();
     if (img.width <= 0 || img.height <= 0 || img.channels <= 0)
         fail_file(path, "the image is empty");
+    // The header's size is checked before anything is allocated for it.
+    if (std::int64_t(img.width) * img.height > kMaxImagePixels)
+        fail_file(path, "the photo is " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                            " pixels, more than the " + std::to_string(kMaxImagePixels / 1000000) +
+                            " million read here");
     img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
-    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
-        std::string why = in->geterror();
-        fail_file(path, "the image data is corrupt (" + why + ")");
-    }
+    // A decoder may fill what it could not read (a truncated JPEG decodes as
+    // grey below the cut) and report it only as a message: any message is a
+    // failure, so a photo is never half-read.
+    const bool read = in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+    const std::string why = in->geterror();
+    if (!read || !why.empty())
+        fail_file(path, "the image data is corrupt or truncated" + (why.empty() ? std::string() : " (" + why + ")"));
     for (float v : img.pixels)
         if (!std::isfinite(v)) fail_file(path, "the image contains NaN or infinite values");
     return img;

@@ -104,6 +104,29 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
     std::ofstream(dir.file("corrupt.png"), std::ios::binary) << "\x89PNG\r\n\x1a\ngarbage";
     require_clean_failure(dir, "volume --photo " + dir.file("corrupt.png") + out, "corrupt.png");
 
+    // The first 20 000 bytes of the demo photo: the JPEG decoder fills the rest
+    // with grey and only says so in a message, which must be an error.
+    {
+        std::ifstream in(demo, std::ios::binary);
+        std::string bytes(20000, '\0');
+        in.read(&bytes[0], std::streamsize(bytes.size()));
+        std::ofstream(dir.file("cut.jpg"), std::ios::binary) << bytes;
+    }
+    require_clean_failure(dir, "volume --photo " + dir.file("cut.jpg") + out, "cut.jpg: the image data is corrupt or truncated");
+    // A PNG that claims 60000 x 60000 pixels (valid CRCs) and holds 16 bytes:
+    // refused from its header, before anything is allocated for it.
+    {
+        const char header[] =
+            "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\xea\x60\x00\x00\xea"
+            "\x60\x08\x02\x00\x00\x00\x0f\xb0\xe2\x15\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x40"
+            "\x05\x00\x00\x10\x00\x01\x39\xbd\x8f\x65\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82";
+        std::ofstream(dir.file("huge.png"), std::ios::binary).write(header, sizeof header - 1);
+    }
+    require_clean_failure(dir, "volume --photo " + dir.file("huge.png") + out, "60000 x 60000");
+    require_clean_failure(dir, "render --mesh " JADE_DATA_DIR "/reference/blob.obj --sigma-s 1 --sigma-a 1 --env " +
+                                   dir.file("huge.png") + " --out " + dir.file("r.exr"),
+                          "60000 x 60000");
+
     jade::write_image_u8(dir.file("clear.png"), 2, 2, 4,
                          {9, 9, 9, 0, 9, 9, 9, 0, 9, 9, 9, 0, 9, 9, 9, 0});
     require_clean_failure(dir, "volume --photo " + dir.file("clear.png") + out, "no foreground");
@@ -214,6 +237,14 @@ TEST_CASE("contrast: `volume --contrast 0` and `render --contrast 0` give the sa
 
 TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][render]") {
     TempDir dir;
+    // Meshes tinyobjloader would read without complaint: a "nan" coordinate
+    // (it reads 0), triangles of zero area only, a size single-precision ray
+    // tracing loses (Embree aborted at 1e13), a unit object 1e6 from the origin.
+    std::ofstream(dir.file("nan.obj")) << "v 0 0 0\nv nan 1 0\nv 0 0 1\nv 1 1 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
+    std::ofstream(dir.file("flat.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 3 2 1\n";
+    std::ofstream(dir.file("huge.obj")) << "v 0 0 0\nv 1e13 0 0\nv 0 1e13 0\nv 0 0 1e13\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::ofstream(dir.file("far.obj")) << "v 1e6 0 0\nv 1000001 0 0\nv 1e6 1 0\nv 1e6 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    const std::size_t files = dir.entries();
     const std::string out = " --out " + dir.file("r.exr");
     const std::string medium = " --sigma-s 1 --sigma-a 1";
     struct Case {
@@ -231,6 +262,14 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         {"render --mesh " + kBlob + medium + " --out " + dir.file("no/such/r.exr"), "does not exist"},
         {"render --mesh " + kBlob + medium + " --spp 0" + out, "--spp"},
         {"render --mesh " + kBlob + medium + " --light-nee sometimes" + out, "--light-nee"},
+        {"render --mesh " + kBlob + medium + " --threads -3" + out, "--threads"},
+        // Every output's folder is checked before the first is written.
+        {"render --mesh " + kBlob + medium + out + " --png " + dir.file("no/r.png"), "no/r.png"},
+        {"render --mesh " + kBlob + medium + out + " --convergence " + dir.file("no/c.csv"), "no/c.csv"},
+        {"render --mesh " + dir.file("nan.obj") + medium + out, "nan.obj: line 2: a NaN or infinite"},
+        {"render --mesh " + dir.file("flat.obj") + medium + out, "every triangle of the mesh is degenerate"},
+        {"render --mesh " + dir.file("huge.obj") + medium + out, "rescale it"},
+        {"render --mesh " + dir.file("far.obj") + medium + out, "move it toward the origin"},
         // A fitting flag belongs to the pipeline, not to render.
         {"render --mesh " + kBlob + medium + " --render-seed 2" + out, "--render-seed"},
     };
@@ -240,8 +279,63 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         CHECK(r.code == 2);
         CHECK(lines(r.err) == 1);
         CHECK_THAT(r.err, Catch::Contains(c.names));
-        CHECK(dir.entries() == 0);
+        CHECK(dir.entries() == files);
     }
+}
+
+TEST_CASE("a full disk: the .vdb write fails with one line and leaves nothing", "[cli]") {
+    // `ulimit -f` makes writes beyond 2 MB fail with EFBIG (SIGXFSZ ignored,
+    // as a full disk fails them with ENOSPC); a 64³ volume needs more.
+    TempDir dir;
+    const std::string cmd = "bash -c \"trap '' XFSZ; ulimit -f 2000; " + std::string(JADE_BINARY) +
+                            " volume --photo " JADE_DATA_DIR "/photos/ambientcg_Onyx002_512_diff.jpg"
+                            " --resolution 64 --out " + dir.file("v.vdb") + "\" >" + dir.file("stdout.txt") +
+                            " 2>" + dir.file("stderr.txt") + " </dev/null";
+    const int status = std::system(cmd.c_str());
+    const std::string err = slurp(dir.file("stderr.txt"));
+    std::filesystem::remove(dir.file("stdout.txt"));
+    std::filesystem::remove(dir.file("stderr.txt"));
+    INFO(err);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 2);
+    CHECK(lines(err) == 1);
+    CHECK_THAT(err, Catch::Contains("v.vdb: the write failed"));
+    CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("render: --out x.png writes the PNG once", "[cli][render]") {
+    TempDir dir;
+    const Result r = run(dir, "render --mesh " + kBlob + " --sigma-s 1 --sigma-a 1 --width 8 --height 8 --spp 2 --out " +
+                                  dir.file("x.png"));
+    REQUIRE(r.code == 0);
+    std::size_t wrote = 0;
+    for (std::size_t at = r.out.find("wrote"); at != std::string::npos; at = r.out.find("wrote", at + 1)) ++wrote;
+    CHECK(wrote == 2);  // x.png and convergence.csv
+    CHECK(jade::read_image_f32(dir.file("x.png")).width == 8);
+}
+
+TEST_CASE("render: an inside-out mesh is turned outward with a warning and renders as the outward one",
+          "[cli][render]") {
+    TempDir dir;
+    std::ifstream in(kBlob);
+    std::ofstream out(dir.file("inside_out.obj"));
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("f ", 0) == 0) {  // f a b c -> f a c b
+            std::istringstream words(line.substr(2));
+            std::string a, b, c;
+            words >> a >> b >> c;
+            line = "f " + a + " " + c + " " + b;
+        }
+        out << line << "\n";
+    }
+    out.close();
+    const std::string args = " --sigma-s 2 --sigma-a 0.5 --width 16 --height 16 --spp 4 --out ";
+    const Result flipped = run(dir, "render --mesh " + dir.file("inside_out.obj") + args + dir.file("a.exr"));
+    INFO(flipped.err);
+    REQUIRE(flipped.code == 0);
+    CHECK_THAT(flipped.err, Catch::Contains("face inward") && Catch::Contains("reversed"));
+    REQUIRE(run(dir, "render --mesh " + kBlob + args + dir.file("b.exr")).code == 0);
+    CHECK(jade::read_image_f32(dir.file("a.exr")).pixels == jade::read_image_f32(dir.file("b.exr")).pixels);
 }
 
 TEST_CASE("render: an open mesh is rendered with a warning, a badly open one refused", "[cli][render]") {
@@ -387,6 +481,9 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
         {base + " --fit newton --out " + dir.file("b"), "--fit"},
         {base + " --out " + dir.file("no/such/b"), "does not exist"},
         {base + " --fit-max-renders 0 --out " + dir.file("b"), "--fit-max-renders"},
+        {base + " --ks-max nan --out " + dir.file("b"), "--ks-max"},
+        {base + " --ks-max -1 --out " + dir.file("b"), "--ks-max"},
+        {base + " --threads -3 --out " + dir.file("b"), "--threads"},
     };
     for (const Bad& b : bad) {
         INFO("jaderender " << b.args);

@@ -38,15 +38,6 @@ std::string cube_obj(bool drop_top = false, bool with_normals = false) {
     return s;
 }
 
-double signed_volume(const TriangleMesh& m) {
-    double v = 0;
-    for (const auto& t : m.triangles)
-        v += glm::dot(glm::dvec3(m.positions[t[0]]),
-                      glm::cross(glm::dvec3(m.positions[t[1]]), glm::dvec3(m.positions[t[2]]))) /
-             6.0;
-    return v;
-}
-
 }  // namespace
 
 TEST_CASE("demo meshes load closed, outward, with the documented triangle counts", "[mesh]") {
@@ -72,7 +63,14 @@ TEST_CASE("an OBJ cube: exact bounds, cube, computed smooth normals", "[mesh]") 
     const TriangleMesh m = load_mesh(dir.file("cube.obj"));
     REQUIRE(m.triangles.size() == 12);
     CHECK_FALSE(m.file_normals);
-    CHECK(signed_volume(m) == Approx(8.0));
+    CHECK(signed_volume(m) == Approx(8.0));  // the cube's volume, by the divergence theorem
+    TriangleMesh inside_out = m;
+    reverse_orientation(inside_out);
+    CHECK(signed_volume(inside_out) == Approx(-8.0));
+    CHECK(glm::dot(inside_out.normals[0], m.normals[0]) == Approx(-1.f));
+    TriangleMesh far = m;  // far from the origin: no cancellation
+    for (auto& p : far.positions) p += glm::vec3(1e4f, -2e4f, 3e4f);
+    CHECK(signed_volume(far) == Approx(8.0).epsilon(1e-6));
     const MeshTopology topo = mesh_topology(m);
     CHECK(topo.closed());
     CHECK(topo.edges == 18);  // 12 cube edges + 6 face diagonals

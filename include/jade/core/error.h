@@ -14,6 +14,11 @@ public:
     explicit Error(const std::string& message);
 };
 
+// A message made fit for one line: newlines as spaces, at most 400
+// characters (a corrupt file's message can quote anything). Every Error's
+// message passes through it.
+std::string one_line(const std::string& text);
+
 // Message for a problem with a named file: "<path>: <problem>".
 [[noreturn]] void fail_file(const std::string& path, const std::string& problem);
 

@@ -7,6 +7,13 @@
 
 namespace jade {
 
+// The largest image any reader accepts: 16384² pixels (1 GiB per float
+// channel), checked against the file's header before anything is allocated,
+// so a corrupt or lying header never asks for gigabytes; and the channels
+// read (RGBA: further channels are not ours).
+constexpr std::int64_t kMaxImagePixels = 16384LL * 16384LL;
+constexpr int kMaxImageChannels = 4;
+
 // One pixel's sRGB-encoded 8-bit levels (paper §4.2, §5.1: the method's colours).
 using Rgb8 = std::array<std::uint8_t, 3>;
 

@@ -27,6 +27,12 @@ struct TriangleMesh {
     glm::vec3 face_normal(std::size_t t) const;
 };
 
+// The volume a closed mesh encloses, by the divergence theorem (Σ p0·(p1 × p2) / 6
+// over its triangles): negative when its triangles face inward.
+double signed_volume(const TriangleMesh& mesh);
+// Turns every triangle (and the normals with it) inside out.
+void reverse_orientation(TriangleMesh& mesh);
+
 // A sphere of `radius` at the origin: the icosahedron subdivided `level`
 // times (20 * 4^level triangles), vertices on the sphere, exact normals.
 TriangleMesh icosphere(int level, float radius);

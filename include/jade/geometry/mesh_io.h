@@ -15,10 +15,23 @@ namespace jade {
 // be read, has no triangle, or has a NaN/infinite coordinate.
 TriangleMesh load_mesh(const std::string& path);
 
-// The checks load_mesh applies to every format: at least one triangle,
-// finite coordinates (binary glTF can carry NaN), non-zero size. Throws
-// jade::Error naming mesh.path.
+// The checks load_mesh applies to every format: at least one triangle of
+// non-zero area, finite coordinates (binary glTF can carry NaN), a size
+// between kMinMeshSize and kMaxMeshSize, and not so far from the origin
+// that single precision cannot resolve it. Throws jade::Error naming
+// mesh.path.
 void validate_mesh(const TriangleMesh& mesh);
+
+// The sizes (longest side of the bounding box, in world units) a mesh may
+// have. Embree and the renderer's ray offsets work in single precision:
+// measured, a mesh scaled to 1e-10…1e-16 or 1e13…1e15 of a unit made
+// Embree abort, and at 1e-20 the object vanished; products of three
+// coordinates must stay far inside float's range (1e-38…3e38).
+constexpr float kMinMeshSize = 1e-6f;
+constexpr float kMaxMeshSize = 1e7f;
+// And its size relative to its farthest coordinate: below this the ray
+// offsets (1e-5 of the size) fall under a float's resolution there.
+constexpr float kMinMeshSizePerReach = 1e-3f;
 
 // The first perspective camera of a glTF scene (depth-first over the default
 // scene's nodes), in world space: glTF cameras look along their node's −z

@@ -30,6 +30,10 @@ private:
     bool committed_ = false;
 };
 
+// Writes `text` to `path` through an AtomicFile, checking the stream after
+// its last flush and its close (where a full disk shows).
+void write_text_file(const std::string& path, const std::string& text);
+
 // Size of a file in bytes (0 when it does not exist).
 unsigned long long file_size(const std::string& path);
 

@@ -20,8 +20,10 @@ void write_image_u8(const std::string& path, int width, int height, int channels
 void write_image_f32(const std::string& path, int width, int height, int channels,
                      const std::vector<float>& pixels, bool associated_alpha = false);
 
-// Reads any format OpenImageIO knows as float. 8-bit files are decoded from
-// sRGB to linear (an HDR/EXR is linear already). Throws jade::Error naming the file.
+// Reads any format OpenImageIO knows as float (its first kMaxImageChannels
+// channels, at most kMaxImagePixels pixels: core/image.h). 8-bit files are decoded from
+// sRGB to linear (an HDR/EXR is linear already). Throws jade::Error naming
+// the file, also when the decoder reports any problem (a truncated file).
 ImageF32 read_image_f32(const std::string& path);
 
 }  // namespace jade
