@@ -539,6 +539,7 @@ int parse_flags(CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    jade::install_interrupt_cleanup();
     CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
                  "materials (jade, marble) from one photograph"};
     app.set_version_flag("--version", std::string(JADE_VERSION));

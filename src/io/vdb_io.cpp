@@ -157,6 +157,16 @@ void write_checked(const AtomicFile& out, const openvdb::GridPtrVec& grids, cons
     if (!written || os.fail())
         fail_file(out.destination(), std::string("the write failed (") + std::strerror(errno) + "); is the disk full?");
 }
+// Whether every non-zero coefficient lies in half precision's normal range
+// (6.1e-5 … 65504), where its relative error stays ≤ 2^-11.
+bool fits_half(const CoefficientTable& table) {
+    for (int c = 0; c < 3; ++c)
+        for (const auto* t : {&table.sigma_s[c], &table.sigma_a[c]})
+            for (float x : *t)
+                if (x != 0.f && !(std::abs(x) >= 6.1035e-5f && std::abs(x) <= 65504.f)) return false;
+    return true;
+}
+
 }  // namespace
 
 void write_material_vdb(const std::string& path, const MaterialVolume& v) {
@@ -173,8 +183,11 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v) {
         // relative error (<= 2^-11) is far below the spacing of adjacent levels
         // (>= 1/255 relative), so nothing the levels say is lost, and the file
         // is 30% smaller and faster to write. Without absorption the levels
-        // come from sigma_s, where a large k_s would eat that margin: full floats.
-        const bool half = v.optics.da > 0.0;
+        // come from sigma_s, where a large k_s would eat that margin: full floats;
+        // full floats also where a coefficient leaves half's normal range
+        // (--density-scale 1e5 overflowed it, and the file then failed its
+        // own check against the metadata).
+        const bool half = v.optics.da > 0.0 && fits_half(CoefficientTable(v.optics, v.cube.side));
         for (const auto& g : grids) g->setSaveFloatAsHalf(half);
         write_checked(out, grids, meta);
     } catch (const openvdb::Exception& e) {

@@ -12,9 +12,11 @@ using jade::read_image_f32;
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 using jade_test::TempDir;
 
@@ -301,6 +303,47 @@ TEST_CASE("a full disk: the .vdb write fails with one line and leaves nothing", 
     CHECK(lines(err) == 1);
     CHECK_THAT(err, Catch::Contains("v.vdb: the write failed"));
     CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("SIGINT and SIGTERM while a file is written: its temporary file is removed, exit 130 or 143",
+          "[cli]") {
+    // The volume is interrupted while its .vdb is being written (its
+    // temporary file exists: the script waits for it), the worst moment.
+    for (const char* sig : {"INT", "TERM"}) {
+        INFO("SIG" << sig);
+        TempDir dir;
+        const std::string script =
+            std::string(JADE_BINARY) + " volume --photo " JADE_DATA_DIR "/photos/ambientcg_Onyx002_512_diff.jpg"
+            " --resolution 192 --out " + dir.file("v.vdb") + " 2>" + dir.file("err.txt") + " & pid=$!; "
+            "for i in $(seq 6000); do ls -a " + dir.path().string() + " | grep -q partial && break; sleep 0.01; done; "
+            "kill -" + sig + " $pid; wait $pid; echo $? >" + dir.file("code.txt");
+        REQUIRE(std::system(("bash -c '" + script + "' </dev/null").c_str()) == 0);
+        const std::string err = slurp(dir.file("err.txt")), code = slurp(dir.file("code.txt"));
+        CHECK(code == (std::string(sig) == "INT" ? "130\n" : "143\n"));
+        CHECK(lines(err) == 1);
+        CHECK_THAT(err, Catch::Contains("temporary files removed"));
+        std::filesystem::remove(dir.file("err.txt"));
+        std::filesystem::remove(dir.file("code.txt"));
+        CHECK(dir.entries() == 0);
+    }
+}
+
+TEST_CASE("a killed run's temporary file is removed by the next write to the same output", "[cli][render]") {
+    TempDir dir;
+    // A process that has ended: its pid names a stale file; ours names a live one.
+    const std::string dead = [] {
+        FILE* p = popen("bash -c 'echo $$'", "r");
+        char buf[32] = {0};
+        const bool ok = std::fgets(buf, sizeof buf, p) != nullptr;
+        pclose(p);
+        return ok ? std::string(buf, std::strcspn(buf, "\n")) : std::string("999999999");
+    }();
+    std::ofstream(dir.file(".r.partial-" + dead + ".exr")) << "half";
+    std::ofstream(dir.file(".r.partial-" + std::to_string(::getpid()) + ".exr")) << "in use";
+    REQUIRE(run(dir, "render --mesh " + kBlob + " --sigma-s 1 --sigma-a 1 --width 8 --height 8 --spp 2 --out " +
+                         dir.file("r.exr")).code == 0);
+    CHECK_FALSE(std::filesystem::exists(dir.file(".r.partial-" + dead + ".exr")));
+    CHECK(std::filesystem::exists(dir.file(".r.partial-" + std::to_string(::getpid()) + ".exr")));
 }
 
 TEST_CASE("render: --out x.png writes the PNG once", "[cli][render]") {

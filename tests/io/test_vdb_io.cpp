@@ -73,7 +73,12 @@ TEST_CASE("write -> read round trip is exact", "[vdb]") {
     OpticalParams no_absorption;  // levels must then come from sigma_s
     no_absorption.da = 0.0;
     no_absorption.ks = {0.1, 0.0, 2.0};
-    for (const OpticalParams& optics : {defaults, fitted, no_absorption}) {
+    // Coefficients beyond half precision's range (up to 3.3e5 > 65504 on this
+    // 3-wide cube; down to 1e-6, below its normal range): full floats.
+    OpticalParams dense, thin;
+    dense.density_scale = 1e6;
+    thin.density_scale = 1e-3;
+    for (const OpticalParams& optics : {defaults, fitted, no_absorption, dense, thin}) {
         // 20 is not a multiple of the 8-voxel leaf: partial leaves too.
         const MaterialVolume v = sample_volume(20, optics);
         write_material_vdb(dir.file("v.vdb"), v);

@@ -2,12 +2,23 @@
 // Outputs are written whole or not at all: a writer fills a temporary file
 // beside the destination, and only a successful commit() renames it into
 // place (rename is atomic within one file system). A writer that is
-// destroyed without commit() — an exception, a crash path — removes its
-// temporary file, so no half-written output is ever left behind.
+// destroyed without commit() — an exception — removes its temporary file,
+// an interrupt (install_interrupt_cleanup) too, and what a killed process
+// left (.<name>.partial-<pid>.<ext> of a process that no longer runs) is
+// removed by the next writer to the same destination, so no half-written
+// output is ever left behind.
 
 #include <string>
 
 namespace jade {
+
+// On SIGINT or SIGTERM: remove every AtomicFile's temporary file that is
+// still open, say so in one line on stderr and exit with 128 + the signal
+// (130, 143). Outputs already committed are complete and stay. The one
+// piece of process-wide state in the program, because signals and files on
+// disk are process-wide: the handler can only reach the temporary files
+// through a fixed table (it may not allocate or lock). Call once, from main.
+void install_interrupt_cleanup();
 
 class AtomicFile {
 public:
@@ -28,6 +39,7 @@ private:
     std::string destination_;
     std::string temp_;
     bool committed_ = false;
+    int slot_ = -1;  // its entry in the interrupt handler's table (-1: none free)
 };
 
 // Writes `text` to `path` through an AtomicFile, checking the stream after
