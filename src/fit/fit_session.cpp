@@ -83,6 +83,10 @@ void FitOptions::validate() const {
 
 namespace {
 
+// The share of a channel's object pixels at one end of the 8-bit range
+// above which the channel counts as clipped.
+constexpr double kClippedShare = 0.5;
+
 int fitting_width(const CameraParams& camera, const FitOptions& options) {
     return options.width > 0 ? options.width : std::max(32, camera.width / 4);
 }
@@ -228,6 +232,7 @@ FitOutcome FitSession::run(Progress* progress) {
     }
     finish(driver);
     if (options_.method == FitMethod::Contrast) fit_contrast();
+    if (fitting) mark_clipped_channels();
     outcome_.seconds = clock_.seconds();
     progress_ = nullptr;
     return outcome_;
@@ -245,6 +250,32 @@ void FitSession::finish(const FitDriver& driver) {
             outcome_.reason[c] = std::string(channel_name(c)) + ": not converged within --fit-max-renders " +
                                  std::to_string(options_.max_renders) + " renders";
         if (driver.state(c) != ChannelState::Converged) outcome_.converged = false;
+    }
+}
+
+// A photo channel with most object pixels at level 0 or 255 says only
+// "this dark or darker" / "this bright or brighter": a render whose A matches
+// it is not thereby the stone, so the channel is reported as clipped, not
+// converged (a pure black or white photo "converged" before).
+void FitSession::mark_clipped_channels() {
+    const std::vector<Rgb8> levels = photo_.foreground_levels();
+    if (levels.empty()) return;
+    for (int c = 0; c < 3; ++c) {
+        std::size_t low = 0, high = 0;
+        for (const Rgb8& l : levels) {
+            low += l[c] == 0;
+            high += l[c] == 255;
+        }
+        const double share = double(std::max(low, high)) / double(levels.size());
+        if (share <= kClippedShare) continue;
+        char why[256];
+        std::snprintf(why, sizeof why,
+                      "%s: %.0f%% of the photo's object pixels are at level %d (clipped), so its brightness "
+                      "there is only a bound and the fit cannot be judged; use a photo exposed %s",
+                      channel_name(c), 100.0 * share, high >= low ? 255 : 0, high >= low ? "darker" : "brighter");
+        outcome_.state[c] = ChannelState::Clipped;
+        outcome_.reason[c] = why;
+        outcome_.converged = false;
     }
 }
 

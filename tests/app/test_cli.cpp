@@ -538,7 +538,7 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     }
 }
 
-TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained results", "[cli][fit]") {
+TEST_CASE("pipeline: flat, tiny, dark, white and clipped photos end with explained results", "[cli][fit]") {
     TempDir dir;
     struct Photo {
         const char* name;
@@ -546,7 +546,8 @@ TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained result
         double foreground;  // share of pixels with alpha 255
     };
     const Photo photos[] = {{"flat", 120, 160, 110, 1.0}, {"tiny", 200, 150, 100, 0.02},
-                            {"dark", 6, 5, 4, 1.0},        {"white", 252, 253, 254, 1.0}};
+                            {"dark", 6, 5, 4, 1.0},        {"white", 252, 253, 254, 1.0},
+                            {"black", 0, 0, 0, 1.0},       {"clipped", 255, 255, 255, 1.0}};
     for (const Photo& p : photos) {
         INFO(p.name);
         const int w = 50, h = 50;
@@ -562,6 +563,11 @@ TEST_CASE("pipeline: flat, tiny, dark and white photos end with explained result
         INFO(r.out << r.err);
         CHECK(r.code == 0);
         CHECK(std::filesystem::exists(dir.file(std::string(p.name) + "-out/report.json")));
+        // A photo at level 0 or 255 is clipped: never "converged".
+        if (p.r == 0 || p.r == 255) {
+            CHECK_THAT(r.out, Catch::Contains("NOT converged"));
+            CHECK_THAT(r.err, Catch::Contains("(clipped)"));
+        }
         // Either converged, or every channel that did not says why.
         if (r.out.find("NOT converged") != std::string::npos)
             CHECK_THAT(r.err, Catch::Contains("warning: fit:"));

@@ -25,7 +25,9 @@ inline bool bisects(FitMethod m) { return m == FitMethod::Bisect || m == FitMeth
 const char* to_string(FitMethod m);
 FitMethod parse_fit_method(const std::string& name);  // throws jade::Error
 
-enum class ChannelState { Searching, Converged, Unreachable };
+// Clipped: most of the photo's object pixels sit at level 0 or 255 in that
+// channel, so its mean is only a bound and matching it proves nothing.
+enum class ChannelState { Searching, Converged, Unreachable, Clipped };
 
 struct FitLimits {
     std::array<double, 3> k_min{};  // smallest k_s per channel: σ_s ≥ 0 in every voxel

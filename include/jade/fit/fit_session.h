@@ -97,6 +97,7 @@ private:
     void bracket(FitDriver& driver);
     void finish(const FitDriver& driver);
     void fit_contrast();
+    void mark_clipped_channels();
     std::array<double, 3> brightness_slopes() const;
     double k_min_at(int channel, double contrast) const;
     int fitting_renders() const;
