@@ -35,6 +35,10 @@ int Film::spp() const {
     return count_.empty() ? 0 : int(*std::max_element(count_.begin(), count_.end()));
 }
 
+int Film::fewest_samples() const {
+    return count_.empty() ? 0 : int(*std::min_element(count_.begin(), count_.end()));
+}
+
 void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object) {
     const std::size_t i = index(x, y);
     for (int c = 0; c < 3; ++c) {

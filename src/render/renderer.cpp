@@ -31,9 +31,16 @@ namespace {
 // numbers are keyed by (seed, pixel, sample index) and the film's sums are
 // exact, so the result does not depend on threads, tiles or how a render is
 // split into passes or pieces.
+// A time by which a pass must stop, even half done (a render's --time).
+struct Deadline {
+    const Stopwatch* clock = nullptr;
+    double seconds = 0.0;
+    bool passed() const { return clock && clock->seconds() >= seconds; }
+};
+
 void add_samples(const Scene& scene, const Integrator& integrator, const PinholeCamera& camera,
                  const RenderSettings& settings, SampleRange samples, PixelBounds bounds,
-                 Film& film, PathCounters& counters, Progress* progress) {
+                 Film& film, PathCounters& counters, Progress* progress, Deadline deadline = {}) {
     const int width = camera.width(), height = camera.height();
     const int tiles_x = (bounds.x1 - bounds.x0 + kTile - 1) / kTile;
     const int tiles_y = (bounds.y1 - bounds.y0 + kTile - 1) / kTile;
@@ -44,6 +51,9 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
         const int x1 = std::min(x0 + kTile, bounds.x1), y1 = std::min(y0 + kTile, bounds.y1);
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
+                // Past the deadline the rest of the pass is left out: each
+                // pixel's mean stays an unbiased estimate of its own samples.
+                if (deadline.passed()) return;
                 const std::uint64_t pixel = std::uint64_t(y) * width + x;
                 for (int s = samples.first; s < samples.last; ++s) {
                     SampleStream rng(settings.seed, pixel, std::uint64_t(s));
@@ -115,9 +125,15 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
     for (int pass = 0; done < settings.spp; ++pass) {
         const double error = done > 0 ? result.passes.back().estimated_error : 0.0;
         const int n = next_pass_size(settings, done, clock.seconds(), error);
+        // After the first pass (every pixel has samples) a time budget also
+        // stops a pass under way: one pass can take far longer than the
+        // ones before it foretold (a stiff voxel that few paths reach).
+        Deadline deadline;
+        if (settings.time_limit > 0.0 && done > 0) deadline = {&clock, settings.time_limit};
         add_samples(scene, integrator, camera, settings, {done, done + n}, whole, result.film,
-                    result.counters, progress);
-        done += n;
+                    result.counters, progress, deadline);
+        const bool cut = deadline.passed();
+        done = cut ? result.film.fewest_samples() : done + n;
 
         PassRecord rec;
         rec.pass = pass;
@@ -136,7 +152,7 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
             result.stopped_by = "target error";
             break;
         }
-        if (settings.time_limit > 0.0 && rec.seconds >= settings.time_limit * 0.98) {
+        if (cut || (settings.time_limit > 0.0 && rec.seconds >= settings.time_limit * 0.98)) {
             result.stopped_by = "time";
             break;
         }

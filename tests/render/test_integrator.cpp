@@ -412,6 +412,17 @@ TEST_CASE("progressive rendering stops at the target error, the time budget or t
     const RenderResult t = render(s, cam, rs);
     CHECK(t.stopped_by == "time");
 
+    // A budget already spent when the second pass starts stops that pass
+    // under way (at once, here): the first pass is always whole, so every
+    // pixel has its 2 samples and no more.
+    rs.time_limit = 1e-9;
+    const RenderResult cut = render(s, cam, rs);
+    CHECK(cut.stopped_by == "time");
+    CHECK(cut.passes.back().spp == 2);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) REQUIRE(cut.film.samples(x, y) == 2);
+    CHECK(cut.film.fewest_samples() == 2);
+
     rs.time_limit = 0.0;
     rs.spp = 5;
     const RenderResult n = render(s, cam, rs);

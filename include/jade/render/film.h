@@ -22,6 +22,9 @@ public:
     // The most samples any pixel holds (a uniform render's samples per pixel).
     int spp() const;
     int samples(int x, int y) const { return int(count_[index(x, y)]); }
+    // The smallest sample count of any pixel (after a pass cut short by a
+    // time budget, pixels differ).
+    int fewest_samples() const;
 
     // Adds one sample to pixel (x, y). A pixel is written by one thread at a time.
     void add_sample(int x, int y, const Spectrum& radiance, bool hit_object);
