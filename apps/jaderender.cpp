@@ -101,6 +101,7 @@ int run_volume(VolumeOptions& o) {
     // Refuse a missing output folder now, not after seconds of work.
     jade::require_output_folder(o.out);
     if (!o.preview.empty()) jade::require_output_folder(o.preview);
+    jade::require_memory_for_volume(o.noise.resolution);
 
     const jade::Stopwatch t_photo;
     const jade::Photo photo = jade::load_photo(o.photo, o.mask);

@@ -162,6 +162,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     o.fit.validate();
     PipelineResult res;
     res.out_dir = output_folder(o);
+    if (o.volume.empty()) require_memory_for_volume(o.noise.resolution);
 
     Stopwatch clock;
     const Photo photo = load_photo(o.photo, o.mask);

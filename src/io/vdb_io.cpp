@@ -2,6 +2,7 @@
 
 #include "jade/io/atomic_file.h"
 #include "jade/core/error.h"
+#include "jade/core/memory.h"
 
 #include <glm/common.hpp>
 #include <openvdb/openvdb.h>
@@ -168,6 +169,13 @@ bool fits_half(const CoefficientTable& table) {
 }
 
 }  // namespace
+
+void require_memory_for_volume(int resolution) {
+    // Levels (3 bytes) + sigma_s, sigma_a, color (12 each) + density (4).
+    constexpr std::uint64_t kBytesPerVoxel = 3 + 3 * sizeof(openvdb::Vec3f) + sizeof(float);
+    const std::uint64_t s = std::uint64_t(std::max(resolution, 0));
+    require_memory(kBytesPerVoxel * s * s * s, "--resolution " + std::to_string(resolution));
+}
 
 void write_material_vdb(const std::string& path, const MaterialVolume& v) {
     openvdb::initialize();

@@ -1,6 +1,9 @@
 #include "jade/render/film.h"
 
 #include "jade/core/error.h"
+#include "jade/core/memory.h"
+
+#include "jade/core/error.h"
 #include "jade/core/display.h"
 
 #include <algorithm>
@@ -26,8 +29,21 @@ __int128 to_fixed(double v) {
 }
 }  // namespace
 
+namespace {
+// A film's memory per pixel: Σx and Σx² per channel, the two counts, and the
+// float RGBA image written from it.
+constexpr std::uint64_t kFilmBytesPerPixel = 2 * 3 * sizeof(__int128) + 2 * sizeof(std::uint32_t) + 4 * sizeof(float);
+
+int checked_size(int width, int height) {
+    if (width < 0 || height < 0) throw Error("internal: a film's size is negative");
+    require_memory(kFilmBytesPerPixel * std::uint64_t(width) * std::uint64_t(height),
+                   "a " + std::to_string(width) + " x " + std::to_string(height) + " render (--width, --height)");
+    return width;
+}
+}  // namespace
+
 Film::Film(int width, int height)
-    : width_(width), height_(height), sum_(std::size_t(width) * height * 3, 0),
+    : width_(checked_size(width, height)), height_(height), sum_(std::size_t(width) * height * 3, 0),
       sum_sq_(std::size_t(width) * height * 3, 0), count_(std::size_t(width) * height, 0),
       hits_(std::size_t(width) * height, 0) {}
 

@@ -2,6 +2,7 @@
 // kind of bad input -> exit code 2, one line on stderr naming the problem,
 // and no output file left behind.
 
+#include "jade/core/memory.h"
 #include "jade/io/image_io.h"
 
 using jade::ImageF32;
@@ -344,6 +345,25 @@ TEST_CASE("a killed run's temporary file is removed by the next write to the sam
                          dir.file("r.exr")).code == 0);
     CHECK_FALSE(std::filesystem::exists(dir.file(".r.partial-" + dead + ".exr")));
     CHECK(std::filesystem::exists(dir.file(".r.partial-" + std::to_string(::getpid()) + ".exr")));
+}
+
+TEST_CASE("a volume or a film larger than the memory available is refused at once", "[cli]") {
+    // 1024³ needs 43 bytes a voxel (46 GB), a 16384² film 120 bytes a pixel
+    // (32 GB): more than this kind of machine has. Where a machine has that
+    // much, the refusal cannot be shown and the test says so.
+    const std::uint64_t available = jade::available_memory_bytes();
+    if (available == 0 || available > 30'000'000'000ULL) {
+        WARN("this machine has " << available << " bytes available: nothing to refuse");
+        return;
+    }
+    TempDir dir;
+    require_clean_failure(dir, "volume --photo " JADE_DATA_DIR "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 1024 --out " +
+                                   dir.file("out.vdb"),
+                          "--resolution 1024 needs about 46.2 GB of memory");
+    require_clean_failure(dir, "render --mesh " JADE_DATA_DIR "/reference/blob.obj --sigma-s 1 --sigma-a 1 "
+                               "--width 16384 --height 16384 --out " + dir.file("r.exr"),
+                          "a 16384 x 16384 render (--width, --height) needs about 32.2 GB");
+    CHECK(dir.entries() == 0);
 }
 
 TEST_CASE("render: --out x.png writes the PNG once", "[cli][render]") {
