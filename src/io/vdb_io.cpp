@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -89,7 +90,35 @@ openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v) {
                     ld[li]->setValueOn(off, mean_st);
                 }
     });
-    return {sigma_s, sigma_a, density, color};
+    // sigma_s and sigma_a, the grids the reader recovers the levels from, go
+    // last: a file cut short then loses part of them, which the levels'
+    // digest reveals, instead of the end of a grid no reader here checks.
+    return {density, color, sigma_s, sigma_a};
+}
+
+// A 64-bit digest of the levels (FNV-1a), written as hex beside them and
+// compared when they are read back: a file damaged or cut short where
+// OpenVDB reads on without complaint is then refused. Levels that give the
+// same coefficients (clipped by the contrast) cannot be told apart in the
+// grids, so each counts as the lowest level of its kind. Hex text, since
+// other tools rewrite 64-bit integer metadata as 32-bit.
+std::string levels_digest(const MaterialVolume& v) {
+    const CoefficientTable table(v.optics, v.cube.side);
+    std::array<std::array<std::uint8_t, 256>, 3> canonical{};
+    for (int c = 0; c < 3; ++c)
+        for (int l = 0; l < 256; ++l) {
+            int first = l;
+            while (first > 0 && table.sigma_s[c][first - 1] == table.sigma_s[c][l] &&
+                   table.sigma_a[c][first - 1] == table.sigma_a[c][l])
+                --first;
+            canonical[c][l] = std::uint8_t(first);
+        }
+    std::uint64_t h = 14695981039346656037ULL;
+    for (const Rgb8& l : v.levels)
+        for (int c = 0; c < 3; ++c) h = (h ^ canonical[c][l[c]]) * 1099511628211ULL;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return hex;
 }
 
 // Every parameter needed to rebuild and re-render the volume exactly.
@@ -123,6 +152,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
                                          v.cube.min[0], v.cube.min[1], v.cube.min[2])));
     meta.insertMeta("jade:cube_side", openvdb::DoubleMetadata(v.cube.side));
     meta.insertMeta("jade:exposure", openvdb::DoubleMetadata(v.exposure));
+    meta.insertMeta("jade:levels_digest", openvdb::StringMetadata(levels_digest(v)));
     meta.insertMeta("jade:units",
                     openvdb::StringMetadata("sigma_s, sigma_a, density per world unit; "
                                             "paper coefficients x density_scale / cube_side"));
@@ -365,7 +395,12 @@ MaterialVolume read_material_vdb(const std::string& path) {
     file->close();
     if (!consistent)
         fail_file(path, "its sigma_s/sigma_a grids do not follow from its jade: metadata "
-                        "(edited by another tool?)");
+                        "(damaged, cut short, or edited by another tool)");
+    // Files written before the digest existed have none to compare.
+    if (const auto digest = meta->getMetadata<openvdb::StringMetadata>("jade:levels_digest"))
+        if (digest->value() != levels_digest(v))
+            fail_file(path, "its grids do not match the digest written with them: the file is damaged or "
+                            "cut short");
     if (!meta->getMetadata<openvdb::Vec3DMetadata>("jade:mean_level")) v.optics.mean_level = mean_levels(v.levels);
     return v;
 }

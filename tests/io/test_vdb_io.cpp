@@ -86,6 +86,30 @@ TEST_CASE("write -> read round trip is exact", "[vdb]") {
     }
 }
 
+TEST_CASE("a file cut short or damaged is refused, wherever it is cut", "[vdb]") {
+    // OpenVDB reads some truncated files without complaint; the grids the
+    // levels come from are written last and checked against a digest.
+    TempDir dir;
+    OpticalParams optics;
+    const MaterialVolume v = sample_volume(24, optics);
+    write_material_vdb(dir.file("v.vdb"), v);
+    std::string bytes;
+    {
+        std::ifstream in(dir.file("v.vdb"), std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    for (std::size_t cut : {std::size_t(1), std::size_t(40), std::size_t(300), std::size_t(5000), bytes.size() / 2}) {
+        INFO("cut by " << cut << " of " << bytes.size() << " bytes");
+        std::ofstream(dir.file("cut.vdb"), std::ios::binary) << bytes.substr(0, bytes.size() - cut);
+        CHECK_THROWS_AS(read_material_vdb(dir.file("cut.vdb")), Error);
+    }
+    // One byte flipped in the last grid's data.
+    std::string flipped = bytes;
+    flipped[flipped.size() - 100] = char(flipped[flipped.size() - 100] ^ 0x5a);
+    std::ofstream(dir.file("flipped.vdb"), std::ios::binary) << flipped;
+    CHECK_THROWS_AS(read_material_vdb(dir.file("flipped.vdb")), Error);
+}
+
 TEST_CASE("the contrast travels in the file, and clipped voxels come back with the same coefficients", "[vdb]") {
     TempDir dir;
     OpticalParams optics;

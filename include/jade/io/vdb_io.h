@@ -11,6 +11,8 @@
 // h = cube.side / s, as OpenVDB's index-space convention puts voxel centres at
 // integer coordinates. File metadata (names prefixed "jade:") holds every
 // parameter needed to rebuild the volume and re-render it exactly.
+// sigma_s and sigma_a are written last, and jade:levels_digest holds a digest
+// of the levels that reading checks (a file cut short is refused).
 // Values are stored as half floats when d_a > 0 (see write_material_vdb);
 // OpenVDB readers (Blender, Houdini) widen them to float transparently.
 
