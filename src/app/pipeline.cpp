@@ -118,6 +118,10 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     fs::create_directories(res.out_dir, ec);
     if (ec) fail_file(res.out_dir, "cannot create the output folder: " + ec.message());
     auto out = [&](const char* name) { return (fs::path(res.out_dir) / name).string(); };
+    // report.json is the set's manifest, written last: an earlier run's goes
+    // first, so a run stopped half way leaves none, and no report.json
+    // vouches for a mix of two runs' files.
+    fs::remove(out("report.json"), ec);
     const float exposure = res.fit.exposure;
     write_material_vdb(out("volume.vdb"), volume);
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);

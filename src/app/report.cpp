@@ -2,6 +2,7 @@
 
 #include "jade/app/job.h"
 #include "jade/core/timing.h"
+#include "jade/io/atomic_file.h"
 #include "jade/io/vdb_io.h"
 
 #include <OpenImageIO/oiioversion.h>
@@ -10,6 +11,7 @@
 #include <oneapi/tbb/version.h>
 
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 
 namespace jade {
@@ -89,6 +91,12 @@ std::string pipeline_report(const PipelineReport& in) {
                      {"tbb", TBB_VERSION_STRING}};
     j["inputs"] = {{"photo", o.photo}, {"mask", o.mask}, {"mesh", o.render.mesh},
                    {"foreground_pixels", in.photo.foreground_count()}};
+    // The manifest: report.json is written last, so the set it names (each
+    // file with its size) is complete when it exists (docs/robustness.md).
+    json outputs = json::object();
+    for (const std::string& path : res.written)
+        outputs[std::filesystem::path(path).filename().string()] = file_size(path);
+    j["outputs"] = outputs;
     j["volume"] = {{"from", o.volume.empty() ? "built from the photo" : o.volume},
                    {"resolution", volume.resolution}, {"octaves", volume.noise.octaves},
                    {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"structure", to_string(volume.structure)},

@@ -518,6 +518,14 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     // two steps of a shading render and a render.
     const auto fit_rows = csv_rows(dir.file("o/fit.csv"));
     CHECK(fit_rows.size() == 7);
+    // report.json, written last, is the manifest: every other output with its size.
+    const std::string manifest = slurp(dir.file("o/report.json"));
+    for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "compare.png"}) {
+        INFO(f);
+        const std::string size = json_field(manifest, f);
+        REQUIRE_FALSE(size.empty());
+        CHECK(std::stoull(size) == std::filesystem::file_size(dir.file(std::string("o/") + f)));
+    }
     // The saved volume carries the fitted k_s: render it with another mesh.
     CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
                        " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);
