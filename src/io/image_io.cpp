@@ -3,6 +3,7 @@
 #include "jade/io/atomic_file.h"
 #include "jade/core/display.h"
 #include "jade/core/error.h"
+#include "jade/core/quiet_stderr.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -49,6 +50,7 @@ void write_image_f32(const std::string& path, int width, int height, int channel
 
 
 ImageF32 read_image_f32(const std::string& path) {
+    const QuietStderr quiet;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
         const std::string why = OIIO::geterror();

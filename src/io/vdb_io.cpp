@@ -7,6 +7,9 @@
 #include <glm/common.hpp>
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
+#include <unistd.h>
+#include <sys/wait.h>
+#include <sys/resource.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -19,6 +22,12 @@
 namespace jade {
 
 namespace {
+
+// A damaged grid can ask for more memory than exists (a size read past the
+// file's end): refused like any damage.
+[[noreturn]] void fail_vdb_too_large(const std::string& path) {
+    fail_file(path, "damaged or cut short: a grid asks for more memory than a file of its size can hold");
+}
 
 constexpr const char* kFormat = "jaderender material volume";
 constexpr int kFormatVersion = 1;
@@ -338,15 +347,22 @@ bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, i
     const int s = v.resolution;
     const double h = v.voxel_size();
     const auto& m = v.cube.min;
-    // World bounds of the slab's voxel centres; OpenVDB rounds them to these voxels.
-    const openvdb::BBoxd box(openvdb::Vec3d(m[0] + 0.5 * h, m[1] + 0.5 * h, m[2] + (z0 + 0.5) * h),
-                             openvdb::Vec3d(m[0] + (s - 0.5) * h, m[1] + (s - 0.5) * h, m[2] + (z1 - 0.5) * h));
+    // World bounds of the slab's voxel centres, a quarter voxel wider on each
+    // side: OpenVDB clips to the voxels whose centres lie inside, and with the
+    // centres exactly on the bounds rounding dropped the last row at some
+    // sizes (12³ could not be read back).
+    const double margin = 0.25 * h;
+    const openvdb::BBoxd box(
+        openvdb::Vec3d(m[0] + 0.5 * h - margin, m[1] + 0.5 * h - margin, m[2] + (z0 + 0.5) * h - margin),
+        openvdb::Vec3d(m[0] + (s - 0.5) * h + margin, m[1] + (s - 0.5) * h + margin, m[2] + (z1 - 0.5) * h + margin));
     openvdb::Vec3fGrid::Ptr gs, ga;
     try {
         gs = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file.readGrid("sigma_s", box));
         ga = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file.readGrid("sigma_a", box));
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    } catch (const std::bad_alloc&) {
+        fail_vdb_too_large(path);
     }
     if (!gs || !ga) fail_file(path, "'sigma_s' and 'sigma_a' must be Vec3f grids");
     std::atomic<bool> ok{true};
@@ -366,10 +382,79 @@ bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, i
 
 }  // namespace
 
-MaterialVolume read_material_vdb(const std::string& path) {
-    openvdb::initialize();
+namespace {
+
+// Memory a .vdb's header, metadata and grid descriptors may take to read:
+// names, types and metadata values of a few kilobytes each, far below this.
+constexpr std::uint64_t kHeaderBudgetBytes = 512ull << 20;
+
+// This process's address space, in bytes (/proc/self/statm; 0 if unknown).
+std::uint64_t address_space_bytes() {
+    std::ifstream in("/proc/self/statm");
+    std::uint64_t pages = 0;
+    in >> pages;
+    return pages * std::uint64_t(::sysconf(_SC_PAGESIZE));
+}
+
+// A damaged .vdb can make OpenVDB allocate whatever a corrupt length field
+// in its header says (a "grid type" of 1.45 GB, 8.6 GB resident) before it
+// fails. So the existence check, header, metadata and every grid's
+// descriptor and metadata are first read in a child process whose address
+// space is capped at kHeaderBudgetBytes more than ours: a file whose header
+// asks for more is refused, and this process never allocates it. The grids'
+// data comes later, in blocks whose sizes the tree's fixed shape bounds.
+void check_vdb_header(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    int fds[2];
+    if (::pipe(fds) != 0) return;  // cannot check: read as before
+    const std::uint64_t cap = address_space_bytes() + kHeaderBudgetBytes;
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return;
+    }
+    if (pid == 0) {  // the child: read, report, exit without unwinding
+        ::close(fds[0]);
+        const rlimit limit{rlim_t(cap), rlim_t(cap)};
+        ::setrlimit(RLIMIT_AS, &limit);
+        int code = 0;
+        std::string message;
+        try {
+            openvdb::io::File file(path);
+            file.open(false);
+            file.getMetadata();
+            file.readAllGridMetadata();
+            file.close();
+        } catch (const std::bad_alloc&) {
+            code = 2;
+        } catch (const std::exception& e) {
+            code = 1;
+            message = one_line(e.what());
+        }
+        [[maybe_unused]] const ssize_t n = ::write(fds[1], message.data(), message.size());
+        ::_exit(code);
+    }
+    ::close(fds[1]);
+    std::string message;
+    char buf[512];
+    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) message.append(buf, std::size_t(n));
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 1)
+        fail_file(path, "cannot read as OpenVDB: " + message);
+    fail_file(path, "damaged: its header asks for more memory than any .vdb header needs");
+}
+
+}  // namespace
+
+MaterialVolume read_material_vdb(const std::string& path) {
+    openvdb::initialize();
+    check_vdb_header(path);
     openvdb::MetaMap::Ptr meta;
     std::unique_ptr<openvdb::io::File> file;
     try {
@@ -380,6 +465,8 @@ MaterialVolume read_material_vdb(const std::string& path) {
             fail_file(path, "no 'sigma_s' and 'sigma_a' grids");
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    } catch (const std::bad_alloc&) {
+        fail_vdb_too_large(path);
     }
     MaterialVolume v = material_from_metadata(*meta, path);
     const int s = v.resolution;
@@ -407,8 +494,7 @@ MaterialVolume read_material_vdb(const std::string& path) {
 
 bool is_material_vdb(const std::string& path) {
     openvdb::initialize();
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    check_vdb_header(path);
     try {
         openvdb::io::File file(path);
         file.open(true);
@@ -417,6 +503,8 @@ bool is_material_vdb(const std::string& path) {
         return bool(meta->getMetadata<openvdb::StringMetadata>("jade:format"));
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    } catch (const std::bad_alloc&) {
+        fail_vdb_too_large(path);
     }
     return false;
 }
@@ -451,8 +539,7 @@ std::vector<Spectrum> dense_rgb(const openvdb::GridBase::Ptr& base, const openvd
 
 CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversion& conv) {
     openvdb::initialize();
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    check_vdb_header(path);
     openvdb::GridPtrVec grids;
     try {
         openvdb::io::File file(path);
@@ -468,6 +555,8 @@ CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversio
         file.close();
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    } catch (const std::bad_alloc&) {
+        fail_vdb_too_large(path);
     }
 
     // One axis-aligned placement for all grids.

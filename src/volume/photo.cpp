@@ -2,15 +2,14 @@
 
 #include "jade/core/display.h"
 #include "jade/core/error.h"
+#include "jade/core/quiet_stderr.h"
 
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fcntl.h>
 #include <filesystem>
-#include <unistd.h>
 
 namespace jade {
 
@@ -29,33 +28,6 @@ std::vector<Rgb8> Photo::foreground_levels() const {
 }
 
 namespace {
-
-// Some codecs (libpng) print their own complaints on stderr before OpenImageIO
-// reports the same problem through geterror(). The user must see one line, so
-// stderr is pointed at /dev/null while a decoder runs. Photos are read before
-// any worker thread starts, so nothing else is silenced.
-class QuietStderr {
-public:
-    QuietStderr() {
-        std::fflush(stderr);
-        saved_ = ::dup(STDERR_FILENO);
-        const int null = ::open("/dev/null", O_WRONLY);
-        if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
-        if (null >= 0) ::close(null);
-    }
-    ~QuietStderr() {
-        std::fflush(stderr);
-        if (saved_ >= 0) {
-            ::dup2(saved_, STDERR_FILENO);
-            ::close(saved_);
-        }
-    }
-    QuietStderr(const QuietStderr&) = delete;
-    QuietStderr& operator=(const QuietStderr&) = delete;
-
-private:
-    int saved_ = -1;
-};
 
 struct RawImage {
     int width = 0, height = 0, channels = 0;
