@@ -39,8 +39,11 @@ void check_obj_coordinates(const std::string& path) {
     std::ifstream in(path);
     std::string line;
     for (long number = 1; std::getline(in, line); ++number) {
-        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
-        const char* p = line.c_str() + 1;
+        const std::size_t at = line.find_first_not_of(" \t");  // OBJ allows leading blanks
+        if (at == std::string::npos || line.size() < at + 2 || line[at] != 'v' ||
+            (line[at + 1] != ' ' && line[at + 1] != '\t'))
+            continue;
+        const char* p = line.c_str() + at + 1;
         for (int k = 0; k < 3; ++k) {
             char* end = nullptr;
             const float v = std::strtof(p, &end);
