@@ -305,7 +305,8 @@ int run_render(RenderFlags& f) {
     const jade::Stopwatch total;
     jade::RenderJobResult r;
     {
-        jade::Progress progress("render", std::size_t(j.width) * j.height * j.settings.spp);
+        jade::Progress progress("render", std::size_t(j.width) * j.height * j.settings.spp,
+                                j.settings.time_limit);
         r = jade::run_render_job(j, &progress);
     }
     for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());

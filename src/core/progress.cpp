@@ -7,8 +7,8 @@ namespace jade {
 
 using Clock = std::chrono::steady_clock;
 
-Progress::Progress(std::string label, std::size_t total)
-    : label_(std::move(label)), total_(total ? total : 1), start_(Clock::now()),
+Progress::Progress(std::string label, std::size_t total, double time_budget_seconds)
+    : label_(std::move(label)), total_(total ? total : 1), time_budget_(time_budget_seconds), start_(Clock::now()),
       last_draw_(start_), tty_(::isatty(STDERR_FILENO) == 1) {}
 
 Progress::~Progress() { finish(); }
@@ -33,8 +33,10 @@ void Progress::finish() {
 }
 
 void Progress::draw(std::size_t done) {
-    const double frac = std::min(1.0, double(done) / double(total_));
     const double secs = std::chrono::duration<double>(Clock::now() - start_).count();
+    // Work ends at its total or at its time budget, whichever comes first.
+    double frac = std::min(1.0, double(done) / double(total_));
+    if (time_budget_ > 0.0) frac = std::max(frac, std::min(1.0, secs / time_budget_));
     const double eta = frac > 0 ? secs * (1.0 - frac) / frac : 0.0;
     if (tty_) {
         constexpr int width = 30;

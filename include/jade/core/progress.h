@@ -15,7 +15,9 @@ namespace jade {
 
 class Progress {
 public:
-    Progress(std::string label, std::size_t total);
+    // time_budget_seconds > 0: the work also ends then (a render's --time),
+    // so the bar and its estimate follow whichever end comes first.
+    Progress(std::string label, std::size_t total, double time_budget_seconds = 0.0);
     ~Progress();
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;
@@ -30,6 +32,7 @@ private:
 
     std::string label_;
     std::size_t total_;
+    double time_budget_ = 0.0;
     std::atomic<std::size_t> done_{0};
     std::chrono::steady_clock::time_point start_;
     std::chrono::steady_clock::time_point last_draw_;
