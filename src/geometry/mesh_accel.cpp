@@ -1,6 +1,7 @@
 #include "jade/geometry/mesh_accel.h"
 
 #include "jade/core/error.h"
+#include "jade/geometry/topology.h"
 
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
@@ -27,9 +28,9 @@ struct MeshAccel::Embree {
     }
 };
 
-MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat)
+MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat, bool detect_convex)
     : mesh_(mesh), flat_(flat), embree_(std::make_unique<Embree>()),
-      clearance_(mesh, kClearanceCells) {
+      clearance_(mesh, kClearanceCells), convex_(detect_convex && is_convex(mesh)) {
     face_normals_.reserve(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const glm::vec3 n = mesh.face_normal(t);

@@ -74,6 +74,9 @@ struct Integrator::PathState {
     SpectralWeight w;
     bool inside = false;       // in the medium
     bool straight = true;      // still the camera ray (only index-matched crossings so far)
+    // The ray starts on the surface going outward (a convex object is then
+    // behind it for good: no query needed).
+    bool left_surface = false;
     // What the path did since its last scattering, for MIS with the light
     // estimators (PathToLight): only null collisions and index-matched
     // crossings (Straight), then exactly one refraction out (Refracted), or
@@ -108,7 +111,7 @@ PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction
                 if (!scatter(s, m) || !survive(s)) return s.out;
                 continue;
             }
-        } else {
+        } else if (!(s.left_surface && scene_.boundary->convex())) {
             hit = scene_.boundary->intersect(s.o, s.d, 0.f, kInfinity);
         }
         if (!hit) {
@@ -256,6 +259,7 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
     }
     // Which side the ray continues on decides whether it is in the medium.
     s.inside = glm::dot(s.d, ng) < 0.f;
+    s.left_surface = glm::dot(s.d, ng) > 0.f;
     s.o = scene_.offset(p, ng, s.d);
     return true;
 }
@@ -276,7 +280,8 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
     const BoundaryTransmission t = boundary_transmission(scene_.interface, s.d, n, true);
     const glm::vec3 mirror = reflect(s.d, glm::dot(s.d, n) < 0.f ? n : -n);
     const bool glint = t.weight < 1.f && glm::dot(mirror, ng) > 0.f &&
-                       !scene_.boundary->intersect(scene_.offset(p, ng, mirror), mirror, 0.f, kInfinity);
+                       (scene_.boundary->convex() ||
+                        !scene_.boundary->intersect(scene_.offset(p, ng, mirror), mirror, 0.f, kInfinity));
     if (!glint) return sample_boundary(scene_.interface, s.d, n, true, u);
     ++s.counters.shadow_rays;
     // No light estimator makes a path that reflects off the outside.

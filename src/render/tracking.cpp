@@ -61,6 +61,8 @@ Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::v
         if (!hit) return tr;
         const glm::vec3 p = o + hit->t * direction;
         inside = glm::dot(direction, hit->geometric_normal) < 0.f;
+        if (glm::dot(direction, hit->geometric_normal) > 0.f && scene.boundary->convex())
+            return tr;  // out of a convex object for good
         o = scene.offset(p, hit->geometric_normal, direction);
     }
     return Spectrum(0.f);

@@ -146,3 +146,29 @@ TEST_CASE("the built-in icosphere is closed, outward-wound and on the sphere", "
     }
     for (const auto& p : m.positions) REQUIRE(glm::length(p) == Approx(2.f));
 }
+
+TEST_CASE("convexity: a sphere and a cube are convex; the cow, two spheres and an open box are not", "[mesh]") {
+    CHECK(is_convex(icosphere(3, 1.f)));
+    TempDir dir;
+    std::ofstream(dir.file("cube.obj")) << cube_obj();
+    const TriangleMesh cube = load_mesh(dir.file("cube.obj"));
+    CHECK(is_convex(cube));
+    CHECK_FALSE(is_convex(load_mesh(JADE_DATA_DIR "/meshes/spot-cow.obj")));
+    CHECK_FALSE(is_convex(load_mesh(JADE_DATA_DIR "/reference/blob.obj")));
+    // Two disjoint spheres: each locally convex everywhere, together not convex.
+    TriangleMesh two = icosphere(2, 1.f);
+    const TriangleMesh other = icosphere(2, 1.f);
+    const auto offset = std::uint32_t(two.positions.size());
+    for (const auto& p : other.positions) two.positions.push_back(p + glm::vec3(3.f, 0.f, 0.f));
+    for (const auto& n : other.normals) two.normals.push_back(n);
+    for (const auto& t : other.triangles) two.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    CHECK_FALSE(is_convex(two));
+    // The cube without one face is open.
+    TriangleMesh open = cube;
+    open.triangles.resize(10);
+    CHECK_FALSE(is_convex(open));
+    // A dent: one vertex of the sphere pushed inward.
+    TriangleMesh dented = icosphere(3, 1.f);
+    dented.positions[0] *= 0.9f;
+    CHECK_FALSE(is_convex(dented));
+}

@@ -34,7 +34,9 @@ struct SurfaceDifferential {
 class MeshAccel {
 public:
     // flat = true ignores vertex normals (shading normal = face normal).
-    explicit MeshAccel(const TriangleMesh& mesh, bool flat = false);
+    // detect_convex = false never reports the mesh convex (every query is
+    // made: the reference the shortcut is tested against).
+    explicit MeshAccel(const TriangleMesh& mesh, bool flat = false, bool detect_convex = true);
     ~MeshAccel();
     MeshAccel(const MeshAccel&) = delete;
     MeshAccel& operator=(const MeshAccel&) = delete;
@@ -53,6 +55,9 @@ public:
     // Below this a clearance is not worth stepping by (one grid cell).
     float clearance_resolution() const { return clearance_.cell_size(); }
     const TriangleMesh& mesh() const { return mesh_; }
+    // The mesh bounds a convex body (geometry/topology.h, is_convex): a ray
+    // leaving its surface outward needs no query, it meets nothing more.
+    bool convex() const { return convex_; }
     // The shading normal's variation at `hit` (a hit this accelerator returned).
     SurfaceDifferential differential(const SurfaceHit& hit) const;
 
@@ -67,6 +72,7 @@ private:
     std::vector<glm::vec3> face_normals_;
     std::unique_ptr<Embree> embree_;
     ClearanceGrid clearance_;
+    bool convex_ = false;
 };
 
 }  // namespace jade

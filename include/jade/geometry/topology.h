@@ -19,4 +19,11 @@ struct MeshTopology {
 };
 MeshTopology mesh_topology(const TriangleMesh& mesh);
 
+// Whether the mesh bounds a convex body: closed, manifold, one connected
+// piece, and convex at every edge (each triangle's far vertex lies on or
+// behind its neighbour's plane, to 1e-6 of the mesh's size). A closed
+// connected surface that is locally convex everywhere is convex (Tietze),
+// so a ray that leaves it outward, from any point, never meets it again.
+bool is_convex(const TriangleMesh& mesh);
+
 }  // namespace jade

@@ -26,7 +26,9 @@ std::optional<LightSample> ManifoldEstimator::sample(const glm::vec3& p, float u
     LightSample ls;
     ls.direction = exit->direction;
     const glm::vec3 y = p + exit->hit.t * exit->direction;
-    if (scene_.boundary->intersect(scene_.offset(y, exit->hit.geometric_normal, exit->exterior),
+    const bool outward = glm::dot(exit->exterior, exit->hit.geometric_normal) > 0.f;
+    if (!(outward && scene_.boundary->convex()) &&
+        scene_.boundary->intersect(scene_.offset(y, exit->hit.geometric_normal, exit->exterior),
                                    exit->exterior, 0.f, kInfinity))
         return ls;  // the object itself is in the way
     if (light_.is_delta()) {  // the irradiance, spread by the refraction's Jacobian

@@ -59,7 +59,9 @@ LightSample RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3
     const Spectrum le = scene_.light.radiance_toward(out.direction);
     if (!(max_component(le) > 0.f)) return {};
     const glm::vec3 y = p + hit->t * w;
-    if (scene_.boundary->intersect(scene_.offset(y, hit->geometric_normal, out.direction),
+    const bool outward = glm::dot(out.direction, hit->geometric_normal) > 0.f;
+    if (!(outward && scene_.boundary->convex()) &&
+        scene_.boundary->intersect(scene_.offset(y, hit->geometric_normal, out.direction),
                                    out.direction, 0.f, kInfinity))
         return {};  // the object itself is in the way
     LightSample ls;
