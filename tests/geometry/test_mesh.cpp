@@ -147,7 +147,7 @@ TEST_CASE("the built-in icosphere is closed, outward-wound and on the sphere", "
     for (const auto& p : m.positions) REQUIRE(glm::length(p) == Approx(2.f));
 }
 
-TEST_CASE("convexity: a sphere and a cube are convex; the cow, two spheres and an open box are not", "[mesh]") {
+TEST_CASE("convexity: a sphere and a cube are convex but the cow, two spheres and an open box are not", "[mesh]") {
     CHECK(is_convex(icosphere(3, 1.f)));
     TempDir dir;
     std::ofstream(dir.file("cube.obj")) << cube_obj();
