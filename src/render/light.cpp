@@ -94,8 +94,8 @@ float solid_angle_pdf(float uv_pdf, float sin_theta) {
     return uv_pdf / (2.f * kPi * kPi * std::max(sin_theta, 1e-6f));
 }
 
-// Texel weights for importance sampling: the brightest channel mean over
-// the texel and its eight neighbours (bilinear lookups reach that far, so
+// Texel weights for importance sampling: the largest grey level (mean of
+// the colour channels) of the texel and its eight neighbours (bilinear lookups reach that far, so
 // every direction of non-zero radiance keeps a non-zero density) times the
 // sine of the row's polar angle (the texels' solid angle).
 std::vector<float> sampling_weights(const ImageF32& img) {
