@@ -31,11 +31,15 @@ struct MeshAccel::Embree {
 MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat, bool detect_convex)
     : mesh_(mesh), flat_(flat), embree_(std::make_unique<Embree>()),
       clearance_(mesh, kClearanceCells), convex_(detect_convex && is_convex(mesh)) {
-    face_normals_.reserve(mesh.triangles.size());
+    shading_.reserve(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const glm::vec3 n = mesh.face_normal(t);
         const float len = glm::length(n);
-        face_normals_.push_back(len > 0.f ? n / len : glm::vec3(0.f));
+        TriangleShading ts;
+        ts.face = len > 0.f ? n / len : glm::vec3(0.f);
+        for (int k = 0; k < 3; ++k)
+            ts.normal[k] = flat ? ts.face : mesh.normals[mesh.triangles[t][std::size_t(k)]];
+        shading_.push_back(ts);
     }
     embree_->device = rtcNewDevice(nullptr);
     if (!embree_->device) throw Error("cannot start Embree (rtcNewDevice failed)");
@@ -94,12 +98,11 @@ SurfaceHit MeshAccel::make_hit(float t, std::uint32_t triangle, float u, float v
     hit.u = u;
     hit.v = v;
     // Our own face normal, (p1 - p0) x (p2 - p0), whose orientation we define.
-    hit.geometric_normal = face_normals_[triangle];
+    const TriangleShading& ts = shading_[triangle];
+    hit.geometric_normal = ts.face;
     hit.shading_normal = hit.geometric_normal;
     if (!flat_) {
-        const auto& tri = mesh_.triangles[triangle];
-        const glm::vec3 n = (1.f - u - v) * mesh_.normals[tri[0]] + u * mesh_.normals[tri[1]] +
-                            v * mesh_.normals[tri[2]];
+        const glm::vec3 n = (1.f - u - v) * ts.normal[0] + u * ts.normal[1] + v * ts.normal[2];
         const float len = glm::length(n);
         if (len > 1e-6f) hit.shading_normal = n / len;
     }
