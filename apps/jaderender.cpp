@@ -209,7 +209,7 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
         ->capture_default_str();
     cmd.add_option("--png", j.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
     cmd.add_option("--convergence", j.convergence,
-                   "Error against time, CSV ('auto': convergence.csv beside --out; '' = none)")
+                   "Error against time, CSV ('auto': <name>.convergence.csv beside --out; '' = none)")
         ->capture_default_str();
 }
 

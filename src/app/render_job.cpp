@@ -43,7 +43,7 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     if (png == job.out) png.clear();  // --out x.png: the PNG is the output itself
     const std::string csv =
         job.convergence == "auto"
-            ? (std::filesystem::path(job.out).parent_path() / "convergence.csv").string()
+            ? sibling(job.out, ".convergence.csv")  // one per render: several can share a folder
             : job.convergence;
     for (const std::string& path : {job.out, png, csv})
         if (!path.empty()) require_output_folder(path);

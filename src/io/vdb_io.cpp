@@ -136,7 +136,9 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:format", openvdb::StringMetadata(kFormat));
     meta.insertMeta("jade:format_version", openvdb::Int32Metadata(kFormatVersion));
     meta.insertMeta("jade:jaderender_version", openvdb::StringMetadata(JADE_VERSION));
-    meta.insertMeta("jade:photo", openvdb::StringMetadata(v.photo));
+    // The photo's file name only: a path of the machine that made the file
+    // means nothing elsewhere (report.json keeps the path as given).
+    meta.insertMeta("jade:photo", openvdb::StringMetadata(std::filesystem::path(v.photo).filename().string()));
     meta.insertMeta("jade:resolution", openvdb::Int32Metadata(v.resolution));
     meta.insertMeta("jade:octaves", openvdb::Int32Metadata(v.noise.octave_count()));
     meta.insertMeta("jade:k", openvdb::DoubleMetadata(v.noise.k));
@@ -252,22 +254,31 @@ T required_meta(const openvdb::MetaMap& meta, const std::string& path, const std
     return m->value();
 }
 
+// An integer written as Int32 or Int64: other tools rewrite one as the
+// other (pyopenvdb stores every Python int as Int32), and the file is the same.
+std::int64_t required_int(const openvdb::MetaMap& meta, const std::string& path, const std::string& name) {
+    if (const auto m = meta.getMetadata<openvdb::Int64Metadata>(name)) return m->value();
+    if (const auto m = meta.getMetadata<openvdb::Int32Metadata>(name)) return m->value();
+    fail_file(path, "metadata '" + name + "' is missing or not an integer");
+}
+
 
 // The volume's parameters from its jade: metadata, checked; no levels yet.
 MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::string& path) {
     const auto fmt = meta.getMetadata<openvdb::StringMetadata>("jade:format");
     if (!fmt || fmt->value() != kFormat)
         fail_file(path, "not a jaderender material volume (no 'jade:format' metadata)");
-    if (required_meta<openvdb::Int32>(meta, path, "jade:format_version") > kFormatVersion)
+    if (required_int(meta, path, "jade:format_version") > kFormatVersion)
         fail_file(path, "written by a newer jaderender (format version too high)");
 
     MaterialVolume v;
-    v.resolution = required_meta<openvdb::Int32>(meta, path, "jade:resolution");
+    v.resolution = int(required_int(meta, path, "jade:resolution"));
     v.photo = required_meta<std::string>(meta, path, "jade:photo");
     v.noise.resolution = v.resolution;
-    v.noise.octaves = required_meta<openvdb::Int32>(meta, path, "jade:octaves");
+    v.noise.octaves = int(required_int(meta, path, "jade:octaves"));
     v.noise.k = required_meta<double>(meta, path, "jade:k");
-    v.noise.seed = std::uint32_t(required_meta<openvdb::Int64>(meta, path, "jade:seed"));
+    // The seed's 32 bits survive a rewrite as a (negative) Int32.
+    v.noise.seed = std::uint32_t(required_int(meta, path, "jade:seed"));
     // Files from before the structure was chosen have the paper's fBm.
     if (const auto m = meta.getMetadata<openvdb::StringMetadata>("jade:structure")) {
         if (m->value() != "fbm" && m->value() != "photo")

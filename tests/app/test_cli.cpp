@@ -161,7 +161,7 @@ std::vector<std::string> csv_rows(const std::string& path) {
 
 }  // namespace
 
-TEST_CASE("render: a homogeneous medium writes EXR, PNG and convergence.csv", "[cli][render]") {
+TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV", "[cli][render]") {
     TempDir dir;
     const Result r = run(dir, "render --mesh " + kBlob +
                                   " --sigma-s 2,4,6 --sigma-a 0.5 --boundary fresnel --width 40 "
@@ -181,7 +181,8 @@ TEST_CASE("render: a homogeneous medium writes EXR, PNG and convergence.csv", "[
     CHECK(exr.at(20, 15, 3) == 1.f);
     const jade::ImageF32 png = jade::read_image_f32(dir.file("r.png"));
     CHECK(png.channels == 4);
-    const auto rows = csv_rows(dir.file("convergence.csv"));
+    // Named after the image, so that several renders can share a folder.
+    const auto rows = csv_rows(dir.file("r.convergence.csv"));
     REQUIRE(rows.size() >= 3);
     CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse");
     CHECK(rows.back().rfind("2,8,", 0) == 0);  // passes 0, 1, 2 of 2, 2, 4 samples: 8 spp
@@ -207,7 +208,7 @@ TEST_CASE("render: a saved volume on another mesh, against a reference, stopped 
     CHECK_THAT(r.out, Catch::Contains("stopped by time"));
     CHECK_THAT(r.out, Catch::Contains("RMSE"));
     CHECK_THAT(r.out, Catch::Contains("jaderender volume 32^3 on the mesh's cube"));
-    const auto rows = csv_rows(dir.file("convergence.csv"));
+    const auto rows = csv_rows(dir.file("r.convergence.csv"));
     REQUIRE(rows.size() >= 2);
     CHECK(rows.back().find(",,") == std::string::npos);  // RMSE columns filled
 }
@@ -373,7 +374,7 @@ TEST_CASE("render: --out x.png writes the PNG once", "[cli][render]") {
     REQUIRE(r.code == 0);
     std::size_t wrote = 0;
     for (std::size_t at = r.out.find("wrote"); at != std::string::npos; at = r.out.find("wrote", at + 1)) ++wrote;
-    CHECK(wrote == 2);  // x.png and convergence.csv
+    CHECK(wrote == 2);  // x.png and x.convergence.csv
     CHECK(jade::read_image_f32(dir.file("x.png")).width == 8);
 }
 

@@ -100,6 +100,36 @@ TEST_CASE("every resolution reads back: slabs clipped by world bounds keep their
     }
 }
 
+TEST_CASE("a file rewritten by another tool still reads: integers as Int32 or Int64, the photo's file name only",
+          "[vdb]") {
+    // pyopenvdb stores every Python int as Int32; OpenVDB's own tools keep
+    // Int64. The file that comes back must read the same either way, and it
+    // names its photo without the path of the machine that made it.
+    TempDir dir;
+    MaterialVolume v = sample_volume(12, OpticalParams{});
+    v.photo = "/home/someone/stones/onyx.png";
+    v.noise.seed = 3000000000u;  // above Int32's range: its bits must survive
+    write_material_vdb(dir.file("v.vdb"), v);
+    openvdb::io::File in(dir.file("v.vdb"));
+    in.open(false);
+    const openvdb::GridPtrVec grids = *in.getGrids();
+    openvdb::MetaMap::Ptr meta = in.getMetadata();
+    in.close();
+    CHECK(meta->metaValue<std::string>("jade:photo") == "onyx.png");
+    meta->removeMeta("jade:seed");
+    meta->insertMeta("jade:seed", openvdb::Int32Metadata(std::int32_t(v.noise.seed)));
+    meta->removeMeta("jade:resolution");
+    meta->insertMeta("jade:resolution", openvdb::Int64Metadata(12));
+    openvdb::io::File out(dir.file("rewritten.vdb"));
+    out.write(grids, *meta);
+    out.close();
+    const MaterialVolume back = read_material_vdb(dir.file("rewritten.vdb"));
+    CHECK(back.noise.seed == v.noise.seed);
+    CHECK(back.resolution == 12);
+    CHECK(back.levels == v.levels);
+    CHECK(back.photo == "onyx.png");
+}
+
 TEST_CASE("a file cut short or damaged is refused, wherever it is cut", "[vdb]") {
     // OpenVDB reads some truncated files without complaint; the grids the
     // levels come from are written last and checked against a digest.

@@ -53,7 +53,7 @@ struct RenderJob {
     std::string reference;                     // image to measure RMSE against
 
     // Outputs: out (.exr); "auto" puts the PNG beside it (same name) and
-    // convergence.csv in its folder; "" skips either.
+    // <name>.convergence.csv beside it; "" skips either.
     std::string out;
     std::string png = "auto";
     std::string convergence = "auto";
