@@ -47,7 +47,15 @@ struct VolumeOptions {
     Vec3Flag contrast;  // `volume --contrast`
 };
 
+// Puts the options added to `cmd` from index `first` on into help section
+// `group`, so that --help reads as sections rather than one long list.
+void group_from(CLI::App& cmd, std::size_t first, const std::string& group) {
+    const std::vector<CLI::Option*> options = cmd.get_options();
+    for (std::size_t i = first; i < options.size(); ++i) options[i]->group(group);
+}
+
 void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = true) {
+    const std::size_t first = cmd.get_options().size();
     auto* photo = cmd.add_option("--photo", o.photo, "Photograph of the material (PNG, JPEG, TIFF, EXR; "
                                                      "alpha >= 0.5 marks the object)");
     if (photo_required) photo->required();
@@ -87,6 +95,7 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     cmd.add_option("--density-scale", o.optics.density_scale,
                    "Optical thickness across the object for a coefficient of 1")
         ->capture_default_str();
+    group_from(cmd, first, "Photo and material volume");
 }
 
 int run_volume(VolumeOptions& o) {
@@ -181,6 +190,7 @@ bool preload_job(int argc, char** argv, RenderFlags& f) {
 // The render command's own flags: its medium and mesh.
 void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     jade::RenderJob& j = f.job;
+    const std::size_t first = cmd.get_options().size();
     cmd.add_option("--job", f.job_file,
                    "Render the job in this file (a job document, or a report.json whose final render "
                    "it replays); flags given beside it override its keys");
@@ -201,6 +211,8 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
                    "Foreign .vdb density grid without a color grid: albedo r,g,b (default 0.9)");
     cmd.add_flag("--flat", j.flat_normals, "Shade the boundary with face normals");
     cmd.add_flag("--allow-open", j.allow_open, "Render a mesh with many open edges anyway");
+    group_from(cmd, first, "Object and medium");
+    const std::size_t outputs = cmd.get_options().size();
     cmd.add_option("--reference", j.reference, "Reference image: RMSE after every pass");
     cmd.add_option("--out", j.out, "Output .exr (linear RGBA float)");
     cmd.add_option("--exposure", j.exposure,
@@ -211,11 +223,13 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     cmd.add_option("--convergence", j.convergence,
                    "Error against time, CSV ('auto': <name>.convergence.csv beside --out; '' = none)")
         ->capture_default_str();
+    group_from(cmd, outputs, "Output");
 }
 
 // Boundary, camera, lights and sampling: shared by `render` and the pipeline.
 void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag = "--seed") {
     jade::RenderJob& j = f.job;
+    std::size_t first = cmd.get_options().size();
     cmd.add_option("--boundary", f.boundary,
                    "Interface: 'split' (paper: reflect with weight --specular), 'fresnel' (exact), "
                    "'none' (index-matched)")
@@ -224,6 +238,8 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--specular", j.interface.specular, "Reflection weight of the split boundary")
         ->capture_default_str();
     cmd.add_option("--g", j.g, "Henyey-Greenstein asymmetry (0 = isotropic)")->capture_default_str();
+    group_from(cmd, first, "Boundary and phase function");
+    first = cmd.get_options().size();
     cmd.add_option("--camera-origin", f.origin.text,
                    "Camera position x,y,z (default: framed from the mesh's upper front)");
     cmd.add_option("--camera-target", f.target.text, "Point looked at (default: the mesh's centre)");
@@ -233,6 +249,8 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--fov", j.fov_degrees, "HORIZONTAL field of view, degrees")->capture_default_str();
     cmd.add_option("--width", j.width, "Image width, pixels")->capture_default_str();
     cmd.add_option("--height", j.height, "Image height, pixels")->capture_default_str();
+    group_from(cmd, first, "Camera");
+    first = cmd.get_options().size();
     cmd.add_option("--light-dir", f.light_dir.text,
                    "Direction toward the directional light (default 0.35,0.8,0.5: upper front right)");
     cmd.add_option("--light-irradiance", j.light_irradiance,
@@ -252,6 +270,8 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "Image seen behind the object by camera rays that miss (default: the environment)");
     cmd.add_flag("--transparent", j.transparent,
                  "Camera rays that miss see nothing; alpha = object coverage");
+    group_from(cmd, first, "Lights");
+    first = cmd.get_options().size();
     cmd.add_option("--spp", j.settings.spp, "Samples per pixel (stop)")->capture_default_str();
     cmd.add_option("--time", j.settings.time_limit, "Time budget in seconds (stop; 0 = none)")
         ->capture_default_str();
@@ -271,6 +291,7 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "environment image is importance-sampled through the boundary by the walk "
                    "('off' turns that off too)")
         ->capture_default_str();
+    group_from(cmd, first, "Rendering");
 }
 
 // Turns the text flags into the job's values (throws jade::Error naming the flag).
@@ -347,14 +368,17 @@ struct PipelineFlags {
 
 void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     add_volume_flags(app, p.volume, /*photo_required=*/false);
+    std::size_t first = app.get_options().size();
     app.add_option("--mesh", p.scene.job.mesh, "The object's surface (.obj, .gltf, .glb)");
     app.add_option("--out", p.out_dir, "Output folder (default: <photo name>-jaderender)");
     app.add_option("--volume", p.options.volume,
                    "Fit this jaderender .vdb's k_s instead of building a volume from the photo");
     app.add_flag("--flat", p.scene.job.flat_normals, "Shade the boundary with face normals");
     app.add_flag("--allow-open", p.scene.job.allow_open, "Use a mesh with many open edges anyway");
+    group_from(app, first, "Object and output");
     add_scene_flags(app, p.scene, "--render-seed");
     jade::PipelineOptions& o = p.options;
+    first = app.get_options().size();
     app.add_option("--fit", p.fit, "What the fit matches: 'contrast' (k_s and contrast per channel, for the "
                                    "photo's brightness A and spread S), 'bisect' (k_s for A: bracket, then bisect), "
                                    "'step' (k_s for A in the paper's 0.01 steps) or 'none'")
@@ -386,6 +410,7 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
                                              "(0 = the middle of the range where every channel can reach the photo, from the "
                                              "renders at both k_s bounds)")
         ->capture_default_str();
+    group_from(app, first, "Fit");
 }
 
 int run_pipeline(PipelineFlags& p) {
@@ -545,6 +570,12 @@ int main(int argc, char** argv) {
     CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
                  "materials (jade, marble) from one photograph"};
     app.set_version_flag("--version", std::string(JADE_VERSION));
+    app.footer("Example: fit the demo photo onto the vase, outputs in out/onyx002/\n"
+               "  jaderender --photo data/photos/ambientcg_Onyx002_512_diff.jpg "
+               "--mesh data/meshes/greek-vase-01.glb --out out/onyx002\n"
+               "then render the fitted volume on another mesh:\n"
+               "  jaderender render --volume out/onyx002/volume.vdb --mesh data/meshes/spot-cow.obj "
+               "--out cow.exr");
     app.require_subcommand(0, 1);
     // No fallthrough: a top-level (fitting) flag given after a subcommand is
     // an error, not silently taken by the pipeline that does not run.

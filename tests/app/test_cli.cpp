@@ -95,6 +95,12 @@ TEST_CASE("--help documents the flags and exits 0", "[cli]") {
                              "--frequency", "--stretch", "--angle", "--bands", "--warp", "--seed",
                              "--match", "--ds", "--da", "--out"})
         CHECK_THAT(r.out, Catch::Contains(flag));
+    // The top level reads as sections, and ends with an example that works.
+    const Result top = run(dir, "--help");
+    CHECK(top.code == 0);
+    for (const char* section : {"Photo and material volume:", "Object and output:", "Camera:", "Lights:",
+                                "Rendering:", "Fit:", "Example:"})
+        CHECK_THAT(top.out, Catch::Contains(section));
 }
 
 TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") {
