@@ -5,7 +5,7 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
-#include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
