@@ -42,12 +42,15 @@ std::vector<openvdb::Coord> leaf_origins(int s) {
 }
 
 template <typename GridT>
-typename GridT::Ptr make_grid(const std::string& name, const openvdb::math::Transform::Ptr& xform,
-                              const std::vector<openvdb::Coord>& origins,
+typename GridT::Ptr make_grid(const std::string& name, const std::string& units, const std::string& description,
+                              const openvdb::math::Transform::Ptr& xform, const std::vector<openvdb::Coord>& origins,
                               std::vector<typename GridT::TreeType::LeafNodeType*>& leaves) {
     auto grid = GridT::create(typename GridT::ValueType(0));
     grid->setName(name);
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    // Grid-level metadata, for a user who opens the file in another tool.
+    grid->insertMeta("units", openvdb::StringMetadata(units));
+    grid->insertMeta("description", openvdb::StringMetadata(description));
     grid->setTransform(xform);
     leaves.resize(origins.size());
     for (std::size_t i = 0; i < origins.size(); ++i) leaves[i] = grid->tree().touchLeaf(origins[i]);
@@ -70,10 +73,14 @@ openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v) {
     const auto origins = leaf_origins(s);
     std::vector<openvdb::Vec3fGrid::TreeType::LeafNodeType*> ls, la, lc;
     std::vector<openvdb::FloatGrid::TreeType::LeafNodeType*> ld;
-    auto sigma_s = make_grid<openvdb::Vec3fGrid>("sigma_s", xform, origins, ls);
-    auto sigma_a = make_grid<openvdb::Vec3fGrid>("sigma_a", xform, origins, la);
-    auto density = make_grid<openvdb::FloatGrid>("density", xform, origins, ld);
-    auto color = make_grid<openvdb::Vec3fGrid>("color", xform, origins, lc);
+    auto sigma_s = make_grid<openvdb::Vec3fGrid>("sigma_s", "1/world unit",
+                                                 "scattering coefficient, RGB", xform, origins, ls);
+    auto sigma_a = make_grid<openvdb::Vec3fGrid>("sigma_a", "1/world unit",
+                                                 "absorption coefficient, RGB", xform, origins, la);
+    auto density = make_grid<openvdb::FloatGrid>(
+        "density", "1/world unit", "extinction sigma_s + sigma_a, mean of RGB", xform, origins, ld);
+    auto color = make_grid<openvdb::Vec3fGrid>("color", "none", "single-scattering albedo sigma_s / sigma_t, RGB",
+                                               xform, origins, lc);
 
     const CoefficientTable table(v.optics, v.cube.side);
     tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t li) {

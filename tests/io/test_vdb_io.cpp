@@ -221,6 +221,8 @@ TEST_CASE("plain OpenVDB sees four fog-volume grids with the documented names, t
     const double h = 3.0 / 16;
     for (auto& g : *grids) {
         CHECK(g->getGridClass() == openvdb::GRID_FOG_VOLUME);
+        CHECK_FALSE(g->metaValue<std::string>("units").empty());
+        CHECK_FALSE(g->metaValue<std::string>("description").empty());
         CHECK(g->activeVoxelCount() == 16u * 16u * 16u);
         // Voxel (i,j,k) centred at cube.min + (i + 1/2) h.
         const openvdb::Vec3d p0 = g->indexToWorld(openvdb::Vec3d(0, 0, 0));
