@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace {
@@ -159,6 +160,7 @@ struct RenderFlags {
     jade::RenderJob job;
     std::string boundary = "split";
     std::string light_nee = "auto";
+    std::string samples, pixels;  // a piece of the render
     Vec3Flag sigma_s, sigma_a, ks, contrast, vdb_albedo, origin, target, up, light_dir;
 };
 
@@ -224,6 +226,14 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
                    "Error against time, CSV ('auto': <name>.convergence.csv beside --out; '' = none)")
         ->capture_default_str();
     group_from(cmd, outputs, "Output");
+    const std::size_t pieces = cmd.get_options().size();
+    cmd.add_option("--samples", f.samples,
+                   "Render only samples A:B (A to B-1) of every pixel, as a piece for `jaderender merge`: "
+                   "written beside --out as <name>.part-sA-B.exr");
+    cmd.add_option("--pixels", f.pixels,
+                   "Render only pixels x0:x1,y0:y1 (a tile), as a piece for `jaderender merge` (with "
+                   "--samples, or all samples 0:--spp)");
+    group_from(cmd, pieces, "Split rendering (a cluster's or render farm's tasks)");
 }
 
 // Boundary, camera, lights and sampling: shared by `render` and the pipeline.
@@ -319,23 +329,46 @@ void resolve_flags(RenderFlags& f) {
     if (f.light_dir.given()) j.light_direction = f.light_dir.value("--light-dir");
 }
 
+// The piece a render's --samples and --pixels ask for, if any.
+std::optional<jade::PieceRange> piece_of(const RenderFlags& f) {
+    if (f.samples.empty() && f.pixels.empty()) return std::nullopt;
+    jade::PieceRange r;
+    r.samples = f.samples.empty() ? jade::SampleRange{0, f.job.settings.spp} : jade::parse_sample_range(f.samples);
+    r.pixels = f.pixels.empty() ? jade::PixelBounds{0, 0, f.job.width, f.job.height}
+                                : jade::parse_pixel_bounds(f.pixels);
+    return r;
+}
+
 int run_render(RenderFlags& f) {
     resolve_flags(f);
     jade::RenderJob& j = f.job;
+    const std::optional<jade::PieceRange> piece = piece_of(f);
 
     const jade::Stopwatch total;
     jade::RenderJobResult r;
     {
-        jade::Progress progress("render", std::size_t(j.width) * j.height * j.settings.spp,
-                                j.settings.time_limit);
-        r = jade::run_render_job(j, &progress);
+        const std::size_t pixels = piece ? std::size_t(piece->pixels.x1 - piece->pixels.x0) *
+                                               std::size_t(piece->pixels.y1 - piece->pixels.y0)
+                                         : std::size_t(j.width) * j.height;
+        const int spp = piece ? piece->samples.last - piece->samples.first : j.settings.spp;
+        jade::Progress progress(piece ? "render piece" : "render", pixels * std::size_t(spp), j.settings.time_limit);
+        r = jade::run_render_job(j, &progress, nullptr, piece ? &*piece : nullptr);
     }
     for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());
     const jade::RenderResult& rr = r.render;
     const jade::PassRecord& last = rr.passes.back();
-    const double samples = double(j.width) * j.height * last.spp;
-    std::printf("render: %dx%d, %d spp in %.2f s (stopped by %s); estimated relative error %.4f",
-                j.width, j.height, last.spp, rr.seconds, rr.stopped_by.c_str(), last.estimated_error);
+    double samples = double(j.width) * j.height * last.spp;
+    if (piece) {
+        const jade::PixelBounds& b = piece->pixels;
+        samples = double(b.x1 - b.x0) * (b.y1 - b.y0) * last.spp;
+        std::printf("render piece: samples %d:%d of %d, pixels %d:%d,%d:%d of %dx%d in %.2f s; estimated relative "
+                    "error of the piece alone %.4f",
+                    piece->samples.first, piece->samples.last, j.settings.spp, b.x0, b.x1, b.y0, b.y1, j.width,
+                    j.height, rr.seconds, last.estimated_error);
+    } else {
+        std::printf("render: %dx%d, %d spp in %.2f s (stopped by %s); estimated relative error %.4f", j.width,
+                    j.height, last.spp, rr.seconds, rr.stopped_by.c_str(), last.estimated_error);
+    }
     if (last.rmse >= 0) std::printf(", RMSE %.5f, relMSE %.3g vs reference", last.rmse, last.rel_mse);
     std::printf("\n  medium: %s (%s)\n", r.medium_description.c_str(),
                 jade::format_megabytes(double(r.medium_bytes)).c_str());
@@ -354,6 +387,30 @@ int run_render(RenderFlags& f) {
                     (unsigned long long)rr.counters.paths, j.settings.integrator.max_depth);
     std::printf("  loading %.2f s, total %.2f s, peak memory %s\n", r.load_seconds, total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
+    for (const auto& file : r.written) std::printf("  wrote %s\n", file.c_str());
+    return 0;
+}
+
+struct MergeFlags {
+    std::vector<std::string> pieces;
+    std::string out, png = "auto";
+};
+
+void add_merge_flags(CLI::App& cmd, MergeFlags& m) {
+    cmd.add_option("pieces", m.pieces, "Piece files written by `render --samples/--pixels` (e.g. out/render.part-*.exr)")
+        ->required();
+    cmd.add_option("--out", m.out, "Output .exr (default: the job's --out)");
+    cmd.add_option("--png", m.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
+}
+
+int run_merge(const MergeFlags& m) {
+    const jade::Stopwatch total;
+    const jade::MergeResult r = jade::merge_render_pieces(m.pieces, m.out, m.png);
+    std::printf("merge: %d pieces of %dx%d, %d spp (seed %llu): estimated relative error %.4f; reading %.2f s, "
+                "merging %.3f s, total %.2f s; the pieces rendered for %.1f s in all\n",
+                r.pieces, r.job.width, r.job.height, r.job.settings.spp, (unsigned long long)r.job.settings.seed,
+                r.film.estimated_relative_error(), r.read_seconds, r.merge_seconds, total.seconds(),
+                r.piece_seconds);
     for (const auto& file : r.written) std::printf("  wrote %s\n", file.c_str());
     return 0;
 }
@@ -609,6 +666,12 @@ int main(int argc, char** argv) {
     add_medium_flags(*render_cmd, render_flags);
     add_scene_flags(*render_cmd, render_flags);
 
+    MergeFlags merge;
+    auto* merge_cmd = app.add_subcommand(
+        "merge", "Merge the pieces of a split render (render --samples/--pixels) into its image, "
+                 "bit-identical to one render of all the samples");
+    add_merge_flags(*merge_cmd, merge);
+
     PipelineFlags pipeline;
     add_pipeline_flags(app, pipeline);
 
@@ -617,7 +680,7 @@ int main(int argc, char** argv) {
     jade::FidelityBenchOptions fbench;
     const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench);
 
-    for (CLI::App* cmd : {volume_cmd, render_cmd, benches.bench, benches.volume, benches.render, benches.fidelity})
+    for (CLI::App* cmd : {volume_cmd, render_cmd, merge_cmd, benches.bench, benches.volume, benches.render, benches.fidelity})
         add_threads(*cmd);
 
     if (const int code = parse_flags(app, argc, argv); code >= 0) return code;
@@ -631,6 +694,7 @@ int main(int argc, char** argv) {
         if (app.get_subcommands().empty()) return run_pipeline(pipeline);
         if (*volume_cmd) return run_volume(vol);
         if (*render_cmd) return run_render(render_flags);
+        if (*merge_cmd) return run_merge(merge);
         if (*benches.volume) return jade::run_volume_benchmark(bench);
         if (*benches.render) return jade::run_render_benchmark(rbench);
         if (*benches.fidelity) return jade::run_fidelity_benchmark(fbench);

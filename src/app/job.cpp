@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace jade {
 
@@ -72,6 +73,11 @@ void read_light_nee(const json& settings, LightThroughBoundary& out, const std::
 }
 
 }  // namespace
+
+std::string sibling_path(const std::string& out, const std::string& suffix) {
+    const fs::path p(out);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
 
 std::string job_json(const RenderJob& job, const std::string& base_dir) {
     json medium = {{"volume", stored_path(job.volume, base_dir)},
@@ -177,26 +183,32 @@ void read_camera_lights_settings(const json& j, RenderJob& job, const std::strin
 
 }  // namespace
 
-RenderJob load_job(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) fail_file(path, "no such file, or it cannot be read");
+RenderJob parse_job(const std::string& text, const std::string& origin, const std::string& base_dir) {
     json j;
     try {
-        j = json::parse(in);
+        j = json::parse(text);
     } catch (const json::exception& e) {
-        fail_file(path, std::string("not valid JSON: ") + e.what());
+        fail_file(origin, std::string("not valid JSON: ") + e.what());
     }
     if (j.is_object() && j.contains("job")) j = j["job"];
-    if (!j.is_object() || !j.contains("scene")) fail_file(path, "holds no render job ('scene' is missing)");
+    if (!j.is_object() || !j.contains("scene")) fail_file(origin, "holds no render job ('scene' is missing)");
     RenderJob job;
-    read_scene_and_medium(j, job, path);
-    read_camera_lights_settings(j, job, path);
-    const fs::path base = fs::path(path).parent_path();
+    read_scene_and_medium(j, job, origin);
+    read_camera_lights_settings(j, job, origin);
+    const fs::path base(base_dir);
     for (std::string* p : {&job.mesh, &job.volume, &job.camera_file, &job.background, &job.out,
                            &job.png, &job.convergence, &job.reference})
         *p = resolved_path(*p, base);
     if (!is_colour(job.environment)) job.environment = resolved_path(job.environment, base);
     return job;
+}
+
+RenderJob load_job(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) fail_file(path, "no such file, or it cannot be read");
+    std::stringstream text;
+    text << in.rdbuf();
+    return parse_job(text.str(), path, fs::path(path).parent_path().string());
 }
 
 }  // namespace jade

@@ -16,18 +16,56 @@
 
 namespace jade {
 
+
 namespace {
 
-// Beside `out`, with the extension replaced (render.exr -> render.png).
-std::string sibling(const std::string& out, const std::string& suffix) {
-    std::filesystem::path p(out);
-    return (p.parent_path() / (p.stem().string() + suffix)).string();
+// The job's medium, and what it references, owned in one place.
+struct LoadedMedium {
+    MaterialVolume volume;  // a jaderender volume's levels, which the medium reads
+    std::unique_ptr<Medium> medium;
+    std::string description;
+    float fitted_exposure = 0.f;  // a jaderender volume's, 0 otherwise
+};
+
+std::unique_ptr<LoadedMedium> load_medium(const RenderJob& job, const Cube& cube) {
+    auto m = std::make_unique<LoadedMedium>();
+    if (job.volume.empty()) {
+        const Spectrum ss = job.sigma_s.value_or(Spectrum(0.f));
+        const Spectrum sa = job.sigma_a.value_or(Spectrum(0.f));
+        m->medium = std::make_unique<HomogeneousMedium>(ss, sa);
+        char text[200];
+        std::snprintf(text, sizeof text, "homogeneous, sigma_s (%g, %g, %g), sigma_a (%g, %g, %g)",
+                      ss.x, ss.y, ss.z, sa.x, sa.y, sa.z);
+        m->description = text;
+    } else if (is_material_vdb(job.volume)) {
+        MaterialVolume& volume = m->volume;
+        volume = read_material_vdb(job.volume);
+        if (job.ks) volume.optics.ks = {(*job.ks)[0], (*job.ks)[1], (*job.ks)[2]};
+        if (job.contrast) volume.optics.contrast = {(*job.contrast)[0], (*job.contrast)[1], (*job.contrast)[2]};
+        volume.optics.validate();
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "jaderender volume %d^3 on the mesh's cube (side %.4g), k_s (%.3f, %.3f, %.3f), "
+                      "contrast (%.3f, %.3f, %.3f)",
+                      volume.resolution, cube.side, volume.optics.ks[0], volume.optics.ks[1],
+                      volume.optics.ks[2], volume.optics.contrast[0], volume.optics.contrast[1],
+                      volume.optics.contrast[2]);
+        m->description = text;
+        if (volume.exposure > 0.0) m->fitted_exposure = float(volume.exposure);
+        m->medium = std::make_unique<MaterialVolumeMedium>(volume, cube);
+    } else {
+        if (job.ks) fail_file(job.volume, "--ks applies to jaderender volumes only");
+        if (job.contrast) fail_file(job.volume, "--contrast applies to jaderender volumes only");
+        CoefficientGrids grids = read_medium_vdb(job.volume, job.density);
+        const auto& s = grids.placement.size;
+        m->description = "grids " + std::to_string(s[0]) + "x" + std::to_string(s[1]) + "x" +
+                         std::to_string(s[2]) + " from " + job.volume;
+        m->medium = std::make_unique<FloatGridMedium>(std::move(grids));
+    }
+    return m;
 }
 
-}  // namespace
-
-RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
-                               const std::function<void(const PassRecord&)>& on_pass) {
+void validate_job(const RenderJob& job) {
     job.settings.validate();
     if (job.mesh.empty()) throw Error("--mesh is required (or a --job that names one)");
     if (job.out.empty()) throw Error("--out is required (or a --job that names it)");
@@ -37,68 +75,59 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
     if (job.volume.empty() && (job.ks || job.contrast))
         throw Error("--ks and --contrast apply to a jaderender --volume, not to a homogeneous medium");
+}
+
+// A piece of the render: its range only, written as a piece file.
+void render_piece(const RenderJob& job, const PieceRange& piece, const Scene& scene, const PinholeCamera& camera,
+                  const RenderSettings& settings, const std::string& path, Progress* progress,
+                  RenderJobResult& result) {
+    const Stopwatch clock;
+    RenderResult& r = result.render;
+    r.film = render_pass(scene, camera, settings, piece.samples, piece.pixels, &r.counters, progress);
+    r.seconds = clock.seconds();
+    r.stopped_by = "range";
+    PassRecord rec;
+    rec.spp = piece.samples.last - piece.samples.first;
+    rec.seconds = r.seconds;
+    rec.estimated_error = r.film.estimated_relative_error();
+    r.passes.push_back(rec);
+    if (progress) progress->finish();
+    write_render_piece(path, job, piece, r.film, result.exposure, r.seconds);
+    result.written.push_back(path);
+}
+
+}  // namespace
+
+RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
+                               const std::function<void(const PassRecord&)>& on_pass, const PieceRange* piece) {
+    validate_job(job);
+    if (piece) validate_piece(job, *piece);
     // Every output's folder is checked before any work, so none is written
-    // unless all can be.
-    std::string png = job.png == "auto" ? sibling(job.out, ".png") : job.png;
+    // unless all can be. A piece writes only its own file.
+    std::string png = job.png == "auto" ? sibling_path(job.out, ".png") : job.png;
     if (png == job.out) png.clear();  // --out x.png: the PNG is the output itself
-    const std::string csv =
-        job.convergence == "auto"
-            ? sibling(job.out, ".convergence.csv")  // one per render: several can share a folder
-            : job.convergence;
-    for (const std::string& path : {job.out, png, csv})
+    std::string csv = job.convergence == "auto"
+                          ? sibling_path(job.out, ".convergence.csv")  // one per render: several can share a folder
+                          : job.convergence;
+    const std::string out = piece ? piece_path(job.out, *piece, job.width, job.height) : job.out;
+    if (piece) png.clear(), csv.clear();
+    for (const std::string& path : {out, png, csv})
         if (!path.empty()) require_output_folder(path);
     RenderJobResult result;
-    result.exposure = job.exposure > 0.f ? job.exposure : 1.f;
     const Stopwatch load_clock;
     const std::unique_ptr<PreparedScene> prep = prepare_scene(job);
     result.warnings = prep->warnings;
-    const Cube& cube = prep->cube;
-
-    // Medium.
-    std::unique_ptr<Medium> medium;
-    MaterialVolume volume;  // held here: the medium references its levels
-    if (!job.volume.empty()) {
-        if (is_material_vdb(job.volume)) {
-            volume = read_material_vdb(job.volume);
-            if (job.ks) volume.optics.ks = {(*job.ks)[0], (*job.ks)[1], (*job.ks)[2]};
-            if (job.contrast) volume.optics.contrast = {(*job.contrast)[0], (*job.contrast)[1], (*job.contrast)[2]};
-            volume.optics.validate();
-            char text[256];
-            std::snprintf(text, sizeof text,
-                          "jaderender volume %d^3 on the mesh's cube (side %.4g), k_s (%.3f, %.3f, %.3f), "
-                          "contrast (%.3f, %.3f, %.3f)",
-                          volume.resolution, cube.side, volume.optics.ks[0], volume.optics.ks[1],
-                          volume.optics.ks[2], volume.optics.contrast[0], volume.optics.contrast[1],
-                          volume.optics.contrast[2]);
-            result.medium_description = text;
-            if (job.exposure == 0.f && volume.exposure > 0.0) result.exposure = float(volume.exposure);
-            medium = std::make_unique<MaterialVolumeMedium>(volume, cube);
-        } else {
-            if (job.ks) fail_file(job.volume, "--ks applies to jaderender volumes only");
-            if (job.contrast) fail_file(job.volume, "--contrast applies to jaderender volumes only");
-            CoefficientGrids grids = read_medium_vdb(job.volume, job.density);
-            const auto& s = grids.placement.size;
-            result.medium_description = "grids " + std::to_string(s[0]) + "x" + std::to_string(s[1]) +
-                                        "x" + std::to_string(s[2]) + " from " + job.volume;
-            medium = std::make_unique<FloatGridMedium>(std::move(grids));
-        }
-    } else {
-        const Spectrum ss = job.sigma_s.value_or(Spectrum(0.f));
-        const Spectrum sa = job.sigma_a.value_or(Spectrum(0.f));
-        medium = std::make_unique<HomogeneousMedium>(ss, sa);
-        char text[200];
-        std::snprintf(text, sizeof text, "homogeneous, sigma_s (%g, %g, %g), sigma_a (%g, %g, %g)",
-                      ss.x, ss.y, ss.z, sa.x, sa.y, sa.z);
-        result.medium_description = text;
-    }
-    result.medium_bytes = medium->memory_bytes();
-    prep->scene.medium = medium.get();
+    const std::unique_ptr<LoadedMedium> medium = load_medium(job, prep->cube);
+    result.medium_description = medium->description;
+    result.medium_bytes = medium->medium->memory_bytes();
+    result.exposure = job.exposure > 0.f ? job.exposure : medium->fitted_exposure > 0.f ? medium->fitted_exposure : 1.f;
+    prep->scene.medium = medium->medium.get();
     const PinholeCamera camera(prep->camera);
 
     std::optional<ImageF32> reference;
     RenderSettings settings = job.settings;
     settings.backdrop = prep->backdrop;
-    if (!job.reference.empty()) {
+    if (!job.reference.empty() && !piece) {
         reference = read_image_f32(job.reference);
         if (reference->width != job.width || reference->height != job.height)
             fail_file(job.reference, "is " + std::to_string(reference->width) + "x" +
@@ -108,6 +137,10 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     }
     result.load_seconds = load_clock.seconds();
 
+    if (piece) {
+        render_piece(job, *piece, prep->scene, camera, settings, out, progress, result);
+        return result;
+    }
     result.render = render(prep->scene, camera, settings, progress, on_pass);
     if (progress) progress->finish();
 

@@ -3,7 +3,6 @@
 #include "jade/core/error.h"
 #include "jade/core/memory.h"
 
-#include "jade/core/error.h"
 #include "jade/core/display.h"
 
 #include <algorithm>
@@ -46,6 +45,20 @@ Film::Film(int width, int height)
     : width_(checked_size(width, height)), height_(height), sum_(std::size_t(width) * height * 3, 0),
       sum_sq_(std::size_t(width) * height * 3, 0), count_(std::size_t(width) * height, 0),
       hits_(std::size_t(width) * height, 0) {}
+
+Film Film::from_sums(Sums s) {
+    Film film(s.width, s.height);
+    const std::size_t n = std::size_t(s.width) * s.height;
+    if (s.sum.size() != 3 * n || s.sum_sq.size() != 3 * n || s.count.size() != n || s.hits.size() != n)
+        throw Error("a film's sums do not match its size");
+    for (std::size_t i = 0; i < n; ++i)
+        if (s.hits[i] > s.count[i]) throw Error("a film's pixel has more object hits than samples");
+    film.sum_ = std::move(s.sum);
+    film.sum_sq_ = std::move(s.sum_sq);
+    film.count_ = std::move(s.count);
+    film.hits_ = std::move(s.hits);
+    return film;
+}
 
 int Film::spp() const {
     return count_.empty() ? 0 : int(*std::max_element(count_.begin(), count_.end()));

@@ -99,7 +99,7 @@ Spectrum backdrop(const Scene& scene, const Backdrop& backdrop, const PathSample
 }
 
 Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
-                 SampleRange samples, PixelBounds bounds, PathCounters* counters) {
+                 SampleRange samples, PixelBounds bounds, PathCounters* counters, Progress* progress) {
     settings.validate();
     if (samples.first < 0 || samples.last < samples.first)
         throw Error("the sample range must be first:last with 0 <= first <= last");
@@ -109,7 +109,7 @@ Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSe
     const Integrator integrator(scene, settings.integrator);
     Film film(camera.width(), camera.height());
     PathCounters local;
-    add_samples(scene, integrator, camera, settings, samples, bounds, film, local, nullptr);
+    add_samples(scene, integrator, camera, settings, samples, bounds, film, local, progress);
     if (counters) *counters += local;
     return film;
 }

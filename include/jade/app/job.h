@@ -62,11 +62,18 @@ struct RenderJob {
     float exposure = 0.f;
 };
 
+// A file beside `out` with its extension replaced by `suffix`:
+// sibling_path("out/render.exr", ".png") = "out/render.png".
+std::string sibling_path(const std::string& out, const std::string& suffix);
+
 // The job as JSON text, its paths made relative to `base_dir`.
 std::string job_json(const RenderJob& job, const std::string& base_dir);
 // Reads a job document: a file holding one (a "job" object, as report.json
 // does) or being one. Relative paths are resolved against its folder.
 // Throws jade::Error naming the file and the key.
 RenderJob load_job(const std::string& path);
+// Likewise from the document's text; `origin` names it in messages and
+// relative paths are resolved against `base_dir`.
+RenderJob parse_job(const std::string& text, const std::string& origin, const std::string& base_dir);
 
 }  // namespace jade

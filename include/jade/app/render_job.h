@@ -3,6 +3,7 @@
 // lights, camera), rendered progressively and written out.
 
 #include "jade/app/job.h"
+#include "jade/app/render_piece.h"
 #include "jade/app/scene_setup.h"
 #include "jade/render/renderer.h"
 
@@ -24,7 +25,10 @@ struct RenderJobResult {
 
 // Validates the job, loads everything, renders, writes the outputs (each whole
 // or not at all). Throws jade::Error with one line naming the bad input.
+// With a `piece`, renders only that range and writes it as a piece of the
+// render (app/render_piece.h) instead of the image.
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress = nullptr,
-                               const std::function<void(const PassRecord&)>& on_pass = nullptr);
+                               const std::function<void(const PassRecord&)>& on_pass = nullptr,
+                               const PieceRange* piece = nullptr);
 
 }  // namespace jade

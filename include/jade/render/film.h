@@ -52,6 +52,24 @@ public:
     // `alpha_is_coverage`, else 1.
     std::vector<float> rgba(bool alpha_is_coverage) const;
 
+    // The film's exact state: per pixel (row-major) Σx and Σx² per channel as
+    // fixed-point integers in 2^-64 units, the sample count and the count of
+    // samples that met the object. What a piece of a split render stores
+    // (app/render_piece.h), so that merging pieces read back from disk is as
+    // exact as merging them in memory.
+    struct Sums {
+        int width = 0, height = 0;
+        std::vector<__int128> sum, sum_sq;  // 3 per pixel
+        std::vector<std::uint32_t> count, hits;
+    };
+    const std::vector<__int128>& sums() const { return sum_; }
+    const std::vector<__int128>& sums_of_squares() const { return sum_sq_; }
+    const std::vector<std::uint32_t>& counts() const { return count_; }
+    const std::vector<std::uint32_t>& object_hits() const { return hits_; }
+    // A film holding exactly these sums (throws jade::Error when the sizes
+    // disagree or a pixel has more object hits than samples).
+    static Film from_sums(Sums sums);
+
 private:
     std::size_t index(int x, int y) const { return std::size_t(y) * width_ + x; }
     double sum(std::size_t i, int c) const;

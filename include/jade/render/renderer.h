@@ -69,7 +69,8 @@ struct PixelBounds {
 // samples (the random numbers are keyed by seed, pixel and sample index, and
 // the film's sums are exact).
 Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
-                 SampleRange samples, PixelBounds bounds, PathCounters* counters = nullptr);
+                 SampleRange samples, PixelBounds bounds, PathCounters* counters = nullptr,
+                 Progress* progress = nullptr);
 
 // What a camera sample sees behind the object: the backdrop's radiance times
 // the weight the path carried out of the scene (zero unless it left without

@@ -1,0 +1,334 @@
+#include "jade/app/render_piece.h"
+
+#include "jade/core/error.h"
+#include "jade/core/timing.h"
+#include "jade/io/atomic_file.h"
+#include "jade/io/exr_parts.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <filesystem>
+
+namespace jade {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr int kPieceFormat = 1;
+constexpr const char* kPieceAttribute = "jade:piece";
+constexpr int kWords = 4;  // 32-bit words of a 128-bit sum
+constexpr const char* kChannelNames[3] = {"R", "G", "B"};
+
+// A whole non-negative decimal number, the whole text.
+bool parse_count(const std::string& text, int& out) {
+    if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos)
+        return false;
+    const long v = std::strtol(text.c_str(), nullptr, 10);
+    if (v > INT_MAX) return false;
+    out = int(v);
+    return true;
+}
+
+// "a:b" as two counts.
+bool parse_pair(const std::string& text, int& a, int& b) {
+    const std::size_t colon = text.find(':');
+    return colon != std::string::npos && parse_count(text.substr(0, colon), a) &&
+           parse_count(text.substr(colon + 1), b);
+}
+
+std::string range_text(const PieceRange& r) {
+    return "samples " + std::to_string(r.samples.first) + ":" + std::to_string(r.samples.last) + " of pixels " +
+           std::to_string(r.pixels.x0) + ":" + std::to_string(r.pixels.x1) + "," + std::to_string(r.pixels.y0) +
+           ":" + std::to_string(r.pixels.y1);
+}
+
+}  // namespace
+
+SampleRange parse_sample_range(const std::string& text) {
+    SampleRange r;
+    if (!parse_pair(text, r.first, r.last) || r.last <= r.first)
+        throw Error("--samples expects A:B with 0 <= A < B (samples A to B-1), not '" + text + "'");
+    return r;
+}
+
+PixelBounds parse_pixel_bounds(const std::string& text) {
+    PixelBounds b;
+    const std::size_t comma = text.find(',');
+    if (comma == std::string::npos || !parse_pair(text.substr(0, comma), b.x0, b.x1) ||
+        !parse_pair(text.substr(comma + 1), b.y0, b.y1) || b.x1 <= b.x0 || b.y1 <= b.y0)
+        throw Error("--pixels expects x0:x1,y0:y1 with x0 < x1 and y0 < y1 (columns x0 to x1-1, rows y0 to y1-1), "
+                    "not '" + text + "'");
+    return b;
+}
+
+void validate_piece(const RenderJob& job, const PieceRange& r) {
+    if (job.settings.time_limit > 0.0 || job.settings.target_error > 0.0)
+        throw Error("a piece renders a fixed range of samples: --time and --target-error do not apply");
+    if (r.samples.first < 0 || r.samples.last > job.settings.spp || r.samples.last <= r.samples.first)
+        throw Error("--samples " + std::to_string(r.samples.first) + ":" + std::to_string(r.samples.last) +
+                    " is not inside the render's samples 0:" + std::to_string(job.settings.spp) + " (--spp)");
+    const PixelBounds& b = r.pixels;
+    if (b.x0 < 0 || b.y0 < 0 || b.x1 > job.width || b.y1 > job.height || b.x1 <= b.x0 || b.y1 <= b.y0)
+        throw Error("--pixels is not inside the " + std::to_string(job.width) + " x " + std::to_string(job.height) +
+                    " image");
+}
+
+std::string piece_path(const std::string& out, const PieceRange& r, int width, int height) {
+    std::string suffix = ".part-s" + std::to_string(r.samples.first) + "-" + std::to_string(r.samples.last);
+    const PixelBounds& b = r.pixels;
+    if (b.x0 != 0 || b.y0 != 0 || b.x1 != width || b.y1 != height)
+        suffix += "-x" + std::to_string(b.x0) + "-" + std::to_string(b.x1) + "-y" + std::to_string(b.y0) + "-" +
+                  std::to_string(b.y1);
+    return sibling_path(out, suffix + ".exr");
+}
+
+namespace {
+
+// The piece's pixels as two EXR parts: a float preview and the exact sums.
+std::vector<ExrPart> piece_parts(const Film& film, const PixelBounds& b, bool transparent) {
+    ExrPart preview, sums;
+    for (ExrPart* p : {&preview, &sums}) {
+        p->full_width = film.width();
+        p->full_height = film.height();
+        p->x0 = b.x0;
+        p->y0 = b.y0;
+        p->width = b.x1 - b.x0;
+        p->height = b.y1 - b.y0;
+    }
+    preview.name = "preview";
+    preview.channels = {"R", "G", "B", "A"};
+    sums.name = "sums";
+    sums.integer = true;
+    for (const char* kind : {"sum", "sumsq"})
+        for (const char* c : kChannelNames)
+            for (int w = 0; w < kWords; ++w)
+                sums.channels.push_back(std::string(kind) + "." + c + "." + std::to_string(w));
+    sums.channels.push_back("count");
+    sums.channels.push_back("hits");
+    const std::vector<float> rgba = film.rgba(transparent);
+    for (int y = b.y0; y < b.y1; ++y)
+        for (int x = b.x0; x < b.x1; ++x) {
+            const std::size_t i = std::size_t(y) * film.width() + x;
+            preview.floats.insert(preview.floats.end(), rgba.begin() + 4 * i, rgba.begin() + 4 * i + 4);
+            for (const auto* v : {&film.sums(), &film.sums_of_squares()})
+                for (int c = 0; c < 3; ++c) {
+                    const auto u = static_cast<unsigned __int128>((*v)[3 * i + c]);
+                    for (int w = 0; w < kWords; ++w) sums.uints.push_back(std::uint32_t(u >> (32 * w)));
+                }
+            sums.uints.push_back(film.counts()[i]);
+            sums.uints.push_back(film.object_hits()[i]);
+        }
+    return {preview, sums};
+}
+
+}  // namespace
+
+void write_render_piece(const std::string& path, const RenderJob& job, const PieceRange& r, const Film& film,
+                        float exposure, double seconds) {
+    const std::string folder = fs::path(path).parent_path().string();
+    const json meta = {{"format", kPieceFormat},
+                       {"samples", {r.samples.first, r.samples.last}},
+                       {"pixels", {r.pixels.x0, r.pixels.y0, r.pixels.x1, r.pixels.y1}},
+                       {"width", film.width()},
+                       {"height", film.height()},
+                       {"exposure", exposure},
+                       {"seconds", seconds},
+                       {"job", json::parse(job_json(job, folder.empty() ? "." : folder))}};
+    std::vector<ExrPart> parts = piece_parts(film, r.pixels, job.transparent);
+    parts[1].attributes.emplace_back(kPieceAttribute, meta.dump());
+    write_exr_parts(path, parts);
+}
+
+namespace {
+
+// The film of a piece's "sums" part, checked against the piece's range.
+Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r) {
+    std::vector<int> index;
+    for (const char* kind : {"sum", "sumsq"})
+        for (const char* c : kChannelNames)
+            for (int w = 0; w < kWords; ++w)
+                index.push_back(p.channel(std::string(kind) + "." + c + "." + std::to_string(w)));
+    index.push_back(p.channel("count"));
+    index.push_back(p.channel("hits"));
+    if (!p.integer || std::count(index.begin(), index.end(), -1) > 0)
+        fail_file(path, "the piece's sums lack channels");
+    const PixelBounds& b = r.pixels;
+    if (p.x0 != b.x0 || p.y0 != b.y0 || p.width != b.x1 - b.x0 || p.height != b.y1 - b.y0)
+        fail_file(path, "the piece's pixels disagree with its range");
+    Film::Sums s;
+    s.width = p.full_width;
+    s.height = p.full_height;
+    const std::size_t n = std::size_t(s.width) * s.height, nc = p.channels.size();
+    s.sum.assign(3 * n, 0);
+    s.sum_sq.assign(3 * n, 0);
+    s.count.assign(n, 0);
+    s.hits.assign(n, 0);
+    const std::uint32_t expected = std::uint32_t(r.samples.last - r.samples.first);
+    for (int y = 0; y < p.height; ++y)
+        for (int x = 0; x < p.width; ++x) {
+            const std::uint32_t* px = &p.uints[(std::size_t(y) * p.width + x) * nc];
+            const std::size_t i = std::size_t(y + p.y0) * s.width + (x + p.x0);
+            for (int k = 0; k < 6; ++k) {
+                unsigned __int128 u = 0;
+                for (int w = 0; w < kWords; ++w) u |= static_cast<unsigned __int128>(px[index[kWords * k + w]]) << (32 * w);
+                (k < 3 ? s.sum : s.sum_sq)[3 * i + k % 3] = static_cast<__int128>(u);
+            }
+            s.count[i] = px[index[6 * kWords]];
+            s.hits[i] = px[index[6 * kWords + 1]];
+            if (s.count[i] != expected) fail_file(path, "a pixel's sample count disagrees with the piece's range");
+        }
+    try {
+        return Film::from_sums(std::move(s));
+    } catch (const Error& e) {
+        fail_file(path, e.what());
+    }
+}
+
+PieceRange read_range(const std::string& path, const json& meta) {
+    PieceRange r;
+    try {
+        const auto s = meta.at("samples").get<std::array<int, 2>>();
+        const auto b = meta.at("pixels").get<std::array<int, 4>>();
+        r.samples = {s[0], s[1]};
+        r.pixels = {b[0], b[1], b[2], b[3]};
+    } catch (const json::exception&) {
+        fail_file(path, "the piece's range is unreadable");
+    }
+    return r;
+}
+
+}  // namespace
+
+RenderPiece read_render_piece(const std::string& path) {
+    const std::vector<ExrPart> parts = read_exr_parts(path, 2, 6 * kWords + 2 + 4);
+    const ExrPart* sums = nullptr;
+    for (const ExrPart& p : parts)
+        if (p.name == "sums" && !p.attribute(kPieceAttribute).empty()) sums = &p;
+    if (!sums) fail_file(path, "is not a piece of a jaderender render (no 'sums' part with jade:piece)");
+    json meta;
+    try {
+        meta = json::parse(sums->attribute(kPieceAttribute));
+    } catch (const json::exception&) {
+        fail_file(path, "the piece's jade:piece attribute is not valid JSON");
+    }
+    if (!meta.is_object() || meta.value("format", 0) != kPieceFormat)
+        fail_file(path, "is a piece of an unknown format (this jaderender reads format " +
+                            std::to_string(kPieceFormat) + ")");
+    RenderPiece piece;
+    piece.file = path;
+    piece.range = read_range(path, meta);
+    if (!meta.contains("job") || !meta["job"].is_object()) fail_file(path, "the piece names no job");
+    const std::string folder = fs::path(path).parent_path().string();
+    piece.job = parse_job(meta["job"].dump(), path, folder.empty() ? "." : folder);
+    if (sums->full_width != piece.job.width || sums->full_height != piece.job.height)
+        fail_file(path, "the piece's image size disagrees with its job");
+    try {
+        validate_piece(piece.job, piece.range);
+    } catch (const Error& e) {
+        fail_file(path, e.what());
+    }
+    piece.exposure = meta.value("exposure", 1.f);
+    piece.seconds = meta.value("seconds", 0.0);
+    piece.film = piece_film(path, *sums, piece.range);
+    return piece;
+}
+
+namespace {
+
+// What makes two pieces parts of the same render: the job without its
+// outputs, paths made absolute.
+json job_identity(const RenderJob& job) {
+    json j = json::parse(job_json(job, "/"));
+    j.erase("outputs");
+    return j;
+}
+
+bool overlap(const PieceRange& a, const PieceRange& b) {
+    return a.samples.first < b.samples.last && b.samples.first < a.samples.last && a.pixels.x0 < b.pixels.x1 &&
+           b.pixels.x0 < a.pixels.x1 && a.pixels.y0 < b.pixels.y1 && b.pixels.y0 < a.pixels.y1;
+}
+
+void check_same_render(const std::vector<RenderPiece>& pieces) {
+    const json first = job_identity(pieces[0].job);
+    for (std::size_t k = 1; k < pieces.size(); ++k) {
+        const json patch = json::diff(first, job_identity(pieces[k].job));
+        if (!patch.empty())
+            throw Error(pieces[0].file + " and " + pieces[k].file + " are pieces of different renders (their jobs' " +
+                        patch[0].value("path", std::string("?")) + " differ)");
+    }
+    for (std::size_t a = 0; a < pieces.size(); ++a)
+        for (std::size_t b = a + 1; b < pieces.size(); ++b)
+            if (overlap(pieces[a].range, pieces[b].range))
+                throw Error(pieces[a].file + " (" + range_text(pieces[a].range) + ") and " + pieces[b].file + " (" +
+                            range_text(pieces[b].range) + ") overlap: merge each sample once");
+}
+
+// After the merge every pixel must hold samples 0:spp; names the first gap.
+void check_complete(const std::vector<RenderPiece>& pieces, const Film& film, int spp) {
+    std::size_t incomplete = 0;
+    int gx = -1, gy = -1;
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x)
+            if (film.samples(x, y) != spp && incomplete++ == 0) gx = x, gy = y;
+    if (incomplete == 0) return;
+    std::vector<SampleRange> held;
+    for (const RenderPiece& p : pieces)
+        if (gx >= p.range.pixels.x0 && gx < p.range.pixels.x1 && gy >= p.range.pixels.y0 && gy < p.range.pixels.y1)
+            held.push_back(p.range.samples);
+    std::sort(held.begin(), held.end(), [](const SampleRange& a, const SampleRange& b) { return a.first < b.first; });
+    int from = 0;
+    for (const SampleRange& r : held) {
+        if (r.first > from) break;
+        from = r.last;
+    }
+    int to = spp;
+    for (const SampleRange& r : held)
+        if (r.first >= from) to = std::min(to, r.first);
+    throw Error("samples " + std::to_string(from) + ":" + std::to_string(to) + " of pixel (" + std::to_string(gx) +
+                ", " + std::to_string(gy) + ") are in no piece (" + std::to_string(incomplete) + " of " +
+                std::to_string(std::size_t(film.width()) * film.height()) +
+                " pixels incomplete): render the missing piece and merge again");
+}
+
+}  // namespace
+
+MergeResult merge_render_pieces(const std::vector<std::string>& files, const std::string& out_arg,
+                                const std::string& png_arg) {
+    if (files.empty()) throw Error("merge: give the pieces to merge");
+    MergeResult result;
+    const Stopwatch read_clock;
+    std::vector<RenderPiece> pieces;
+    for (const std::string& f : files) pieces.push_back(read_render_piece(f));
+    result.read_seconds = read_clock.seconds();
+    check_same_render(pieces);
+
+    const Stopwatch merge_clock;
+    result.job = pieces[0].job;
+    result.exposure = pieces[0].exposure;
+    result.pieces = int(pieces.size());
+    result.film = Film(result.job.width, result.job.height);
+    for (const RenderPiece& p : pieces) {
+        result.film.merge(p.film);
+        result.piece_seconds += p.seconds;
+    }
+    check_complete(pieces, result.film, result.job.settings.spp);
+    result.merge_seconds = merge_clock.seconds();
+
+    const std::string out = out_arg.empty() ? result.job.out : out_arg;
+    std::string png = png_arg == "auto" ? sibling_path(out, ".png") : png_arg;
+    if (png == out) png.clear();
+    for (const std::string& path : {out, png})
+        if (!path.empty()) require_output_folder(path);
+    write_film(result.film, out, png, result.job.transparent, result.exposure);
+    result.written.push_back(out);
+    if (!png.empty()) result.written.push_back(png);
+    return result;
+}
+
+}  // namespace jade
