@@ -2,6 +2,7 @@
 // library; all the work lives in libjade.
 
 #include "jade/io/atomic_file.h"
+#include "jade/app/batch.h"
 #include "jade/app/bench.h"
 #include "jade/core/error.h"
 #include "jade/core/parse.h"
@@ -415,6 +416,39 @@ int run_merge(const MergeFlags& m) {
     return 0;
 }
 
+struct BatchFlags {
+    std::string manifest;
+    int index = -1;
+    bool count = false;
+    std::string summary = "summary.csv", sheet = "contact-sheet.png";
+};
+
+void add_batch_commands(CLI::App& app, BatchFlags& b, CLI::App*& batch, CLI::App*& summary) {
+    batch = app.add_subcommand(
+        "batch", "Run entry --index of a manifest of fits (JSON or CSV: photo, mask, mesh, out, flags), as one "
+                 "task of a cluster's array job");
+    batch->add_option("manifest", b.manifest, "The manifest (.json or .csv)")->required();
+    batch->add_option("--index", b.index, "The entry to run, from 0 (e.g. $SLURM_ARRAY_TASK_ID)");
+    batch->add_flag("--count", b.count, "Print the number of entries and exit");
+    summary = app.add_subcommand(
+        "summary", "Gather a manifest's report.json files into one CSV table and its compare.png files into a "
+                   "contact sheet");
+    summary->add_option("manifest", b.manifest, "The manifest (.json or .csv)")->required();
+    summary->add_option("--out", b.summary, "The table (CSV)")->capture_default_str();
+    summary->add_option("--sheet", b.sheet, "The contact sheet (PNG; '' = none)")->capture_default_str();
+}
+
+int run_summary(const BatchFlags& b) {
+    const jade::BatchManifest m = jade::load_manifest(b.manifest);
+    jade::require_output_folder(b.summary);
+    if (!b.sheet.empty()) jade::require_output_folder(b.sheet);
+    const jade::BatchSummary s = jade::write_batch_summary(m, b.summary);
+    if (!b.sheet.empty()) jade::write_contact_sheet(m, b.sheet);
+    std::printf("summary: %d of %zu entries done, %d missing or unreadable; wrote %s%s%s\n", s.done,
+                m.entries.size(), s.missing, b.summary.c_str(), b.sheet.empty() ? "" : " and ", b.sheet.c_str());
+    return 0;
+}
+
 struct PipelineFlags {
     VolumeOptions volume;
     RenderFlags scene;
@@ -622,8 +656,33 @@ int parse_flags(CLI::App& app, int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    jade::install_interrupt_cleanup();
+namespace {
+
+int run_command(int argc, char** argv);
+
+// `batch MANIFEST --index I`: entry I's fit, parsed and run as if its flags
+// had been given to jaderender.
+int run_batch_entry(const BatchFlags& b) {
+    const jade::BatchManifest m = jade::load_manifest(b.manifest);
+    if (b.count) {
+        std::printf("%zu\n", m.entries.size());
+        return 0;
+    }
+    if (b.index < 0) throw jade::Error("batch: give --index I (0 to " + std::to_string(m.entries.size() - 1) +
+                                       ") or --count");
+    std::vector<std::string> args = jade::entry_arguments(m, b.index);
+    args.insert(args.begin(), "jaderender");
+    std::printf("batch: entry %d of %zu: %s on %s -> %s\n", b.index, m.entries.size(),
+                m.entries[std::size_t(b.index)].photo.c_str(), m.entries[std::size_t(b.index)].mesh.c_str(),
+                m.entries[std::size_t(b.index)].out.c_str());
+    std::fflush(stdout);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    return run_command(int(args.size()), argv.data());
+}
+
+int run_command(int argc, char** argv) {
     CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
                  "materials (jade, marble) from one photograph"};
     app.set_version_flag("--version", std::string(JADE_VERSION));
@@ -672,6 +731,10 @@ int main(int argc, char** argv) {
                  "bit-identical to one render of all the samples");
     add_merge_flags(*merge_cmd, merge);
 
+    BatchFlags batch;
+    CLI::App *batch_cmd = nullptr, *summary_cmd = nullptr;
+    add_batch_commands(app, batch, batch_cmd, summary_cmd);
+
     PipelineFlags pipeline;
     add_pipeline_flags(app, pipeline);
 
@@ -680,7 +743,7 @@ int main(int argc, char** argv) {
     jade::FidelityBenchOptions fbench;
     const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench);
 
-    for (CLI::App* cmd : {volume_cmd, render_cmd, merge_cmd, benches.bench, benches.volume, benches.render, benches.fidelity})
+    for (CLI::App* cmd : {volume_cmd, render_cmd, merge_cmd, batch_cmd, summary_cmd, benches.bench, benches.volume, benches.render, benches.fidelity})
         add_threads(*cmd);
 
     if (const int code = parse_flags(app, argc, argv); code >= 0) return code;
@@ -695,6 +758,8 @@ int main(int argc, char** argv) {
         if (*volume_cmd) return run_volume(vol);
         if (*render_cmd) return run_render(render_flags);
         if (*merge_cmd) return run_merge(merge);
+        if (*batch_cmd) return run_batch_entry(batch);
+        if (*summary_cmd) return run_summary(batch);
         if (*benches.volume) return jade::run_volume_benchmark(bench);
         if (*benches.render) return jade::run_render_benchmark(rbench);
         if (*benches.fidelity) return jade::run_fidelity_benchmark(fbench);
@@ -706,4 +771,11 @@ int main(int argc, char** argv) {
         return 3;
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    jade::install_interrupt_cleanup();
+    return run_command(argc, argv);
 }

@@ -5,6 +5,8 @@
 #include "jade/core/error.h"
 #include "jade/core/quiet_stderr.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -86,6 +88,16 @@ ImageF32 read_image_f32(const std::string& path) {
     for (float v : img.pixels)
         if (!std::isfinite(v)) fail_file(path, "image holds NaN or infinite values");
     return img;
+}
+
+ImageF32 resize_image(const ImageF32& image, int width, int height) {
+    const OIIO::ImageSpec in_spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+    const OIIO::ImageBuf src(in_spec, const_cast<float*>(image.pixels.data()));
+    OIIO::ImageBuf dst(OIIO::ImageSpec(width, height, image.channels, OIIO::TypeDesc::FLOAT));
+    if (!OIIO::ImageBufAlgo::resize(dst, src)) throw Error("cannot resize an image: " + dst.geterror());
+    ImageF32 out{width, height, image.channels, std::vector<float>(std::size_t(width) * height * image.channels)};
+    dst.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, out.pixels.data());
+    return out;
 }
 
 }  // namespace jade

@@ -650,3 +650,62 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK(lines(bad.err) == 1);
     CHECK_THAT(bad.err, Catch::Contains("bad.json"));
 }
+
+TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {
+    TempDir dir;
+    const std::string job = "render --mesh " + kBlob + " --sigma-s 4,6,8 --sigma-a 0.2,0.4,1 --width 32 --height 24 "
+                            "--spp 12 --seed 5 --out " + dir.file("r.exr");
+    REQUIRE(run(dir, job + " --convergence ''").code == 0);
+    for (const char* piece : {"--samples 0:5", "--samples 5:12 --pixels 0:20,0:24", "--samples 5:12 --pixels 20:32,0:24"}) {
+        const Result r = run(dir, job + " " + piece);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("render piece: samples"));
+    }
+    CHECK(std::filesystem::exists(dir.file("r.part-s5-12-x20-32-y0-24.exr")));
+    const Result m = run(dir, "merge " + dir.file("r.part-s0-5.exr") + " " + dir.file("r.part-s5-12-x0-20-y0-24.exr") +
+                                  " " + dir.file("r.part-s5-12-x20-32-y0-24.exr") + " --out " + dir.file("m.exr"));
+    INFO(m.err);
+    REQUIRE(m.code == 0);
+    CHECK_THAT(m.out, Catch::Contains("merge: 3 pieces of 32x24, 12 spp"));
+    const ImageF32 a = read_image_f32(dir.file("r.exr")), b = read_image_f32(dir.file("m.exr"));
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    CHECK(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0);
+
+    std::filesystem::remove(dir.file("m.exr"));
+    std::filesystem::remove(dir.file("m.png"));
+    const Result gap = run(dir, "merge " + dir.file("r.part-s0-5.exr") + " --out " + dir.file("m.exr"));
+    CHECK(gap.code == 2);
+    CHECK(lines(gap.err) == 1);
+    CHECK_THAT(gap.err, Catch::Contains("samples 5:12 of pixel (0, 0) are in no piece"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("m.exr")));
+    const Result bad = run(dir, job + " --samples 0:13");
+    CHECK(bad.code == 2);
+    CHECK_THAT(bad.err, Catch::Contains("--samples 0:13 is not inside the render's samples 0:12"));
+}
+
+TEST_CASE("batch: --count, an entry by --index, and the summary of the manifest", "[cli][fit]") {
+    TempDir dir;
+    std::ofstream(dir.file("m.json")) << R"({"flags": ["--resolution", "16", "--width", "32", "--height", "32",
+        "--spp", "4", "--fit", "none", "--ks", "1"], "entries": [
+        {"photo": ")" JADE_DATA_DIR R"(/photos/ambientcg_Onyx002_512_diff.jpg", "mesh": ")" + kBlob + R"(", "out": "a"},
+        {"photo": ")" JADE_DATA_DIR R"(/photos/ambientcg_Onyx002_512_diff.jpg", "mesh": ")" + kBlob + R"(", "out": "b"}]})";
+    const Result count = run(dir, "batch " + dir.file("m.json") + " --count");
+    CHECK(count.code == 0);
+    CHECK(count.out == "2\n");
+    const Result one = run(dir, "batch " + dir.file("m.json") + " --index 1");
+    INFO(one.err);
+    REQUIRE(one.code == 0);
+    CHECK_THAT(one.out, Catch::StartsWith("batch: entry 1 of 2:"));
+    CHECK(std::filesystem::exists(dir.file("b/report.json")));
+    CHECK_FALSE(std::filesystem::exists(dir.file("a")));
+    const Result sum = run(dir, "summary " + dir.file("m.json") + " --out " + dir.file("s.csv") + " --sheet " +
+                                    dir.file("sheet.png"));
+    INFO(sum.err);
+    REQUIRE(sum.code == 0);
+    CHECK_THAT(sum.out, Catch::Contains("1 of 2 entries done, 1 missing"));
+    CHECK(std::filesystem::exists(dir.file("sheet.png")));
+    const Result bad = run(dir, "batch " + dir.file("m.json") + " --index 2");
+    CHECK(bad.code == 2);
+    CHECK_THAT(bad.err, Catch::Contains("--index 2 is not an entry"));
+}

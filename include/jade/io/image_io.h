@@ -26,4 +26,7 @@ void write_image_f32(const std::string& path, int width, int height, int channel
 // the file, also when the decoder reports any problem (a truncated file).
 ImageF32 read_image_f32(const std::string& path);
 
+// The image resampled to width x height (OpenImageIO's filtered resize).
+ImageF32 resize_image(const ImageF32& image, int width, int height);
+
 }  // namespace jade
