@@ -161,7 +161,7 @@ struct RenderFlags {
     jade::RenderJob job;
     std::string boundary = "split";
     std::string light_nee = "auto";
-    std::string samples, pixels;  // a piece of the render
+    std::string samples, pixels, piece_of;  // a piece of the render
     Vec3Flag sigma_s, sigma_a, ks, contrast, vdb_albedo, origin, target, up, light_dir;
 };
 
@@ -234,6 +234,9 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     cmd.add_option("--pixels", f.pixels,
                    "Render only pixels x0:x1,y0:y1 (a tile), as a piece for `jaderender merge` (with "
                    "--samples, or all samples 0:--spp)");
+    cmd.add_option("--piece", f.piece_of,
+                   "Render only piece I of N (I from 0) of the samples, cut into N nearly equal ranges: "
+                   "--samples for a scheduler's task I of N");
     group_from(cmd, pieces, "Split rendering (a cluster's or render farm's tasks)");
 }
 
@@ -332,7 +335,11 @@ void resolve_flags(RenderFlags& f) {
 
 // The piece a render's --samples and --pixels ask for, if any.
 std::optional<jade::PieceRange> piece_of(const RenderFlags& f) {
-    if (f.samples.empty() && f.pixels.empty()) return std::nullopt;
+    if (f.samples.empty() && f.pixels.empty() && f.piece_of.empty()) return std::nullopt;
+    if (!f.piece_of.empty()) {
+        if (!f.samples.empty() || !f.pixels.empty()) throw jade::Error("--piece replaces --samples and --pixels");
+        return jade::parse_piece_of(f.piece_of, f.job);
+    }
     jade::PieceRange r;
     r.samples = f.samples.empty() ? jade::SampleRange{0, f.job.settings.spp} : jade::parse_sample_range(f.samples);
     r.pixels = f.pixels.empty() ? jade::PixelBounds{0, 0, f.job.width, f.job.height}
@@ -394,19 +401,29 @@ int run_render(RenderFlags& f) {
 
 struct MergeFlags {
     std::vector<std::string> pieces;
-    std::string out, png = "auto";
+    std::string out, png = "auto", job;
+    int split = 0;
 };
 
 void add_merge_flags(CLI::App& cmd, MergeFlags& m) {
-    cmd.add_option("pieces", m.pieces, "Piece files written by `render --samples/--pixels` (e.g. out/render.part-*.exr)")
-        ->required();
+    cmd.add_option("pieces", m.pieces, "Piece files written by `render --samples/--pixels` (e.g. out/render.part-*.exr)");
+    cmd.add_option("--job", m.job, "With --split N: merge the N pieces `render --job FILE --piece I/N` wrote");
+    cmd.add_option("--split", m.split, "The number of pieces N of `render --piece I/N` (with --job)");
     cmd.add_option("--out", m.out, "Output .exr (default: the job's --out)");
     cmd.add_option("--png", m.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
 }
 
 int run_merge(const MergeFlags& m) {
     const jade::Stopwatch total;
-    const jade::MergeResult r = jade::merge_render_pieces(m.pieces, m.out, m.png);
+    std::vector<std::string> pieces = m.pieces;
+    if (m.job.empty() != (m.split == 0)) throw jade::Error("merge: --job and --split go together");
+    if (!m.job.empty()) {
+        if (!pieces.empty()) throw jade::Error("merge: give piece files or --job with --split, not both");
+        if (m.split < 1) throw jade::Error("--split must be at least 1");
+        pieces = jade::split_piece_paths(jade::load_job(m.job), m.split, m.out);
+    }
+    if (pieces.empty()) throw jade::Error("merge: give the piece files, or --job and --split");
+    const jade::MergeResult r = jade::merge_render_pieces(pieces, m.out, m.png);
     std::printf("merge: %d pieces of %dx%d, %d spp (seed %llu): estimated relative error %.4f; reading %.2f s, "
                 "merging %.3f s, total %.2f s; the pieces rendered for %.1f s in all\n",
                 r.pieces, r.job.width, r.job.height, r.job.settings.spp, (unsigned long long)r.job.settings.seed,

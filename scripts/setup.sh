@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages jaderender needs (only those missing), then
+# Installs the Debian 12 packages jaderender needs (only those missing; Slurm
+# and munge for the cluster scripts and their test), then
 # configures and builds it (Release) into build/. Safe to run again: with
 # everything present it only rebuilds what changed.
 set -euo pipefail
@@ -11,6 +12,7 @@ packages=(
   libtinygltf-dev libopenvdb-dev libboost-iostreams-dev libopencv-core-dev catch2
   libtbb-dev libtinyobjloader-dev nlohmann-json3-dev libstb-dev libcli11-dev
   fonts-dejavu-core
+  slurm-wlm munge
 )
 
 missing=()

@@ -67,6 +67,28 @@ PixelBounds parse_pixel_bounds(const std::string& text) {
     return b;
 }
 
+PieceRange parse_piece_of(const std::string& text, const RenderJob& job) {
+    const std::size_t slash = text.find('/');
+    int index = 0, count = 0;
+    if (slash == std::string::npos || !parse_count(text.substr(0, slash), index) ||
+        !parse_count(text.substr(slash + 1), count) || count < 1 || index >= count)
+        throw Error("--piece expects I/N with 0 <= I < N (piece I of N), not '" + text + "'");
+    if (count > job.settings.spp)
+        throw Error("--piece " + text + ": more pieces than the render's " + std::to_string(job.settings.spp) +
+                    " samples (--spp)");
+    const auto cut = [&](int i) { return int(std::int64_t(i) * job.settings.spp / count); };
+    return {{cut(index), cut(index + 1)}, {0, 0, job.width, job.height}};
+}
+
+std::vector<std::string> split_piece_paths(const RenderJob& job, int count, const std::string& out) {
+    std::vector<std::string> paths;
+    for (int i = 0; i < count; ++i)
+        paths.push_back(piece_path(out.empty() ? job.out : out,
+                                   parse_piece_of(std::to_string(i) + "/" + std::to_string(count), job), job.width,
+                                   job.height));
+    return paths;
+}
+
 void validate_piece(const RenderJob& job, const PieceRange& r) {
     if (job.settings.time_limit > 0.0 || job.settings.target_error > 0.0)
         throw Error("a piece renders a fixed range of samples: --time and --target-error do not apply");
@@ -206,6 +228,8 @@ PieceRange read_range(const std::string& path, const json& meta) {
 }  // namespace
 
 RenderPiece read_render_piece(const std::string& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) fail_file(path, "no such piece (has it been rendered?)");
     const std::vector<ExrPart> parts = read_exr_parts(path, 2, 6 * kWords + 2 + 4);
     const ExrPart* sums = nullptr;
     for (const ExrPart& p : parts)

@@ -173,6 +173,18 @@ TEST_CASE("range flags: parsed strictly, checked against the job", "[piece]") {
 
     TempDir dir;
     RenderJob job = small_job(dir);
+    // I/N: N nearly equal ranges that cover 0:spp (29) once.
+    int next = 0;
+    for (int i = 0; i < 4; ++i) {
+        const PieceRange r = parse_piece_of(std::to_string(i) + "/4", job);
+        CHECK(r.samples.first == next);
+        CHECK(r.samples.last - r.samples.first >= 7);
+        CHECK(r.samples.last - r.samples.first <= 8);
+        next = r.samples.last;
+    }
+    CHECK(next == 29);
+    CHECK(parse_piece_of("0/1", job).samples.last == 29);
+    for (const char* bad : {"4/4", "1", "/4", "1/0", "-1/4", "0/30"}) CHECK_THROWS_AS(parse_piece_of(bad, job), Error);
     CHECK_THROWS_WITH(validate_piece(job, {{0, 30}, {0, 0, 40, 32}}), Catch::Contains("0:29 (--spp)"));
     CHECK_THROWS_WITH(validate_piece(job, {{0, 4}, {0, 0, 41, 32}}), Catch::Contains("40 x 32"));
     job.settings.time_limit = 5;

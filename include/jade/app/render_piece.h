@@ -35,6 +35,11 @@ struct PieceRange {
 SampleRange parse_sample_range(const std::string& text);
 PixelBounds parse_pixel_bounds(const std::string& text);
 
+// "I/N": piece I (from 0) of the render's samples cut into N nearly equal
+// ranges (samples floor(I·spp/N) to floor((I+1)·spp/N) - 1 of every pixel),
+// so that a scheduler's task needs only its index and the task count.
+PieceRange parse_piece_of(const std::string& text, const RenderJob& job);
+
 // Checks a piece against its job: inside samples 0:spp and the image, not
 // empty, and the job's stops fixed (no --time, no --target-error).
 void validate_piece(const RenderJob& job, const PieceRange& range);
@@ -60,6 +65,10 @@ void write_render_piece(const std::string& path, const RenderJob& job, const Pie
 // Reads a piece; a file that is not one, or whose sums disagree with its
 // range, is refused with one line naming it.
 RenderPiece read_render_piece(const std::string& path);
+
+// The files of the N pieces `render --piece I/N` writes for `job` (its
+// output as `out`, or the job's own when `out` is empty), in order.
+std::vector<std::string> split_piece_paths(const RenderJob& job, int count, const std::string& out = "");
 
 struct MergeResult {
     Film film;
