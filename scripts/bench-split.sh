@@ -26,7 +26,7 @@ now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
 
 t0=$(now)
-"$jade" render --job "$job" --spp "$spp" --out "$work/single.exr" >"$work/single.log"
+"$jade" render --job "$job" --spp "$spp" --out "$work/single.exr" >"$work/single.log" 2>/dev/null
 t1=$(now)
 echo "one process, all $(nproc) cores: $(elapsed "$t0" "$t1") s"
 
@@ -39,18 +39,18 @@ for n in 1 2 4; do
     start=$(now)
     for ((i = 0; i < n; i++)); do
         "$jade" render --job "$job" --spp "$spp" --out "$work/split$n.exr" --piece "$i/$n" --threads 1 \
-            >"$work/piece$n-$i.log" &
+            >"$work/piece$n-$i.log" 2>/dev/null &
     done
     wait
     end=$(now)
     wall=$(elapsed "$start" "$end")
     [ -z "$base" ] && base=$wall
-    loads=$(grep -h "loading" "$work"/piece$n-*.log | sed 's/.*loading \([0-9.]*\) s.*/\1/' | tr '\n' ' ')
+    loads=$(grep -h "loading" "$work"/piece$n-*.log | sed 's/.*loading \([0-9.]*\) s, .*peak memory \(.*\)/\1 s (peak \2)/' | paste -sd ',' -)
     start=$(now)
-    "$jade" merge --job "$job" --split "$n" --out "$work/split$n.exr" >"$work/merge$n.log"
+    "$jade" merge "$work"/split$n.part-*.exr --out "$work/split$n.exr" >"$work/merge$n.log"
     merge=$(elapsed "$start" "$(now)")
     same=$(idiff -fail 0 -failpercent 0 -warn 0 "$work/single.exr" "$work/split$n.exr" >/dev/null && echo "bit-identical" || echo "DIFFERS")
     size=$(du -ch "$work"/split$n.part-*.exr | tail -n 1 | cut -f 1)
     echo "$n piece(s) at once, 1 thread each: $wall s wall, speed-up $(awk -v a="$base" -v b="$wall" 'BEGIN { printf "%.2f", a / b }')x" \
-         "over one piece; loading per piece (s): $loads; merge $merge s (pieces on disk $size); $same"
+         "over one piece; loading per piece: $loads; merge $merge s (pieces on disk $size); $same"
 done

@@ -229,7 +229,7 @@ PieceRange read_range(const std::string& path, const json& meta) {
 
 RenderPiece read_render_piece(const std::string& path) {
     std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) fail_file(path, "no such piece (has it been rendered?)");
+    if (!fs::is_regular_file(path, ec)) fail_file(path, "no such piece (not rendered yet, or rendered with flags beside --job: then name the pieces)");
     const std::vector<ExrPart> parts = read_exr_parts(path, 2, 6 * kWords + 2 + 4);
     const ExrPart* sums = nullptr;
     for (const ExrPart& p : parts)
