@@ -689,6 +689,7 @@ int run_batch_entry(const BatchFlags& b) {
                                        ") or --count");
     std::vector<std::string> args = jade::entry_arguments(m, b.index);
     args.insert(args.begin(), "jaderender");
+    jade::create_entry_parent(m, b.index);
     std::printf("batch: entry %d of %zu: %s on %s -> %s\n", b.index, m.entries.size(),
                 m.entries[std::size_t(b.index)].photo.c_str(), m.entries[std::size_t(b.index)].mesh.c_str(),
                 m.entries[std::size_t(b.index)].out.c_str());

@@ -123,6 +123,14 @@ std::vector<std::string> entry_arguments(const BatchManifest& m, int index) {
     return args;
 }
 
+void create_entry_parent(const BatchManifest& m, int index) {
+    entry_arguments(m, index);  // checks the index
+    const fs::path parent = fs::path(m.entries[std::size_t(index)].out).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::create_directories(parent, ec) && ec)
+        fail_file(parent.string(), "cannot create the folder: " + ec.message());
+}
+
 namespace {
 
 // A value of the report at a JSON pointer, as CSV text ("" when absent).

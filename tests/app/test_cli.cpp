@@ -689,7 +689,7 @@ TEST_CASE("batch: --count, an entry by --index, and the summary of the manifest"
     std::ofstream(dir.file("m.json")) << R"({"flags": ["--resolution", "16", "--width", "32", "--height", "32",
         "--spp", "4", "--fit", "none", "--ks", "1"], "entries": [
         {"photo": ")" JADE_DATA_DIR R"(/photos/ambientcg_Onyx002_512_diff.jpg", "mesh": ")" + kBlob + R"(", "out": "a"},
-        {"photo": ")" JADE_DATA_DIR R"(/photos/ambientcg_Onyx002_512_diff.jpg", "mesh": ")" + kBlob + R"(", "out": "b"}]})";
+        {"photo": ")" JADE_DATA_DIR R"(/photos/ambientcg_Onyx002_512_diff.jpg", "mesh": ")" + kBlob + R"(", "out": "fits/b"}]})";
     const Result count = run(dir, "batch " + dir.file("m.json") + " --count");
     CHECK(count.code == 0);
     CHECK(count.out == "2\n");
@@ -697,7 +697,7 @@ TEST_CASE("batch: --count, an entry by --index, and the summary of the manifest"
     INFO(one.err);
     REQUIRE(one.code == 0);
     CHECK_THAT(one.out, Catch::StartsWith("batch: entry 1 of 2:"));
-    CHECK(std::filesystem::exists(dir.file("b/report.json")));
+    CHECK(std::filesystem::exists(dir.file("fits/b/report.json")));  // fits/ created for it
     CHECK_FALSE(std::filesystem::exists(dir.file("a")));
     const Result sum = run(dir, "summary " + dir.file("m.json") + " --out " + dir.file("s.csv") + " --sheet " +
                                     dir.file("sheet.png"));

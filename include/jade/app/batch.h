@@ -40,6 +40,11 @@ BatchManifest load_manifest(const std::string& path);
 // name): --photo, --mask, --mesh, --out, the common flags, the entry's flags.
 std::vector<std::string> entry_arguments(const BatchManifest& manifest, int index);
 
+// Creates the folder that holds entry `index`'s output folder (the fit
+// creates the output folder itself), so a manifest may name out/<entry>
+// before out/ exists. Throws jade::Error naming the folder when it cannot.
+void create_entry_parent(const BatchManifest& manifest, int index);
+
 // One row per entry from its report.json: status, fit, exposure, the
 // appearance against the photo, the final render's error and the times.
 // Entries that have no report (not run yet, or failed) are rows with status
