@@ -143,6 +143,11 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     }
     result.render = render(prep->scene, camera, settings, progress, on_pass);
     if (progress) progress->finish();
+    if (const std::size_t n = result.render.unsampled_pixels; n > 0)
+        result.warnings.push_back("--time " + std::to_string(job.settings.time_limit) + " s ran out before every pixel "
+                                  "had a sample: " + std::to_string(n) + " of " +
+                                  std::to_string(std::size_t(job.width) * job.height) +
+                                  " pixels are black (no sample); give more time");
 
     write_film(result.render.film, job.out, png, job.transparent, result.exposure);
     result.written.push_back(job.out);

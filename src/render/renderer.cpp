@@ -70,11 +70,13 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
     for (const PathCounters& c : local_counters) counters += c;
 }
 
-// Samples in the next pass: passes double (2, 2, 4, 8, ...), so the error is
-// measured at evenly spaced points on a log scale and costs little; a time
-// budget or target error shortens the pass that would overshoot it.
+// Samples in the next pass: passes double (1, 1, 2, 4, 8, ...), so the error
+// is measured at evenly spaced points on a log scale and costs little; the
+// first pass gives every pixel one sample as soon as possible (under a time
+// budget, an image before anything else); a time budget or target error
+// shortens the pass that would overshoot it.
 int next_pass_size(const RenderSettings& settings, int done, double seconds, double error) {
-    int n = std::min(std::max(2, done), settings.spp - done);
+    int n = std::min(std::max(1, done), settings.spp - done);
     if (done == 0) return n;
     const double per_spp = seconds / done;
     if (settings.time_limit > 0.0) {
@@ -125,11 +127,12 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
     for (int pass = 0; done < settings.spp; ++pass) {
         const double error = done > 0 ? result.passes.back().estimated_error : 0.0;
         const int n = next_pass_size(settings, done, clock.seconds(), error);
-        // After the first pass (every pixel has samples) a time budget also
-        // stops a pass under way: one pass can take far longer than the
-        // ones before it foretold (a stiff voxel that few paths reach).
+        // A time budget also stops a pass under way, the first included:
+        // one pass can take far longer than the ones before it foretold (a
+        // stiff voxel that few paths reach). Pixels the first pass did not
+        // reach stay black and are counted.
         Deadline deadline;
-        if (settings.time_limit > 0.0 && done > 0) deadline = {&clock, settings.time_limit};
+        if (settings.time_limit > 0.0) deadline = {&clock, settings.time_limit};
         add_samples(scene, integrator, camera, settings, {done, done + n}, whole, result.film,
                     result.counters, progress, deadline);
         const bool cut = deadline.passed();
@@ -158,6 +161,8 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
         }
     }
     result.seconds = clock.seconds();
+    for (int y = 0; y < camera.height(); ++y)
+        for (int x = 0; x < camera.width(); ++x) result.unsampled_pixels += result.film.samples(x, y) == 0 ? 1 : 0;
     return result;
 }
 

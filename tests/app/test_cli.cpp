@@ -191,7 +191,7 @@ TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV"
     const auto rows = csv_rows(dir.file("r.convergence.csv"));
     REQUIRE(rows.size() >= 3);
     CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse");
-    CHECK(rows.back().rfind("2,8,", 0) == 0);  // passes 0, 1, 2 of 2, 2, 4 samples: 8 spp
+    CHECK(rows.back().rfind("3,8,", 0) == 0);  // passes 0 to 3 of 1, 1, 2, 4 samples: 8 spp
 }
 
 TEST_CASE("render: a saved volume on another mesh, against a reference, stopped by time",
@@ -708,4 +708,16 @@ TEST_CASE("batch: --count, an entry by --index, and the summary of the manifest"
     const Result bad = run(dir, "batch " + dir.file("m.json") + " --index 2");
     CHECK(bad.code == 2);
     CHECK_THAT(bad.err, Catch::Contains("--index 2 is not an entry"));
+}
+
+TEST_CASE("render: a time budget spent before the first pass ends says how many pixels are black", "[cli][render]") {
+    TempDir dir;
+    const Result r = run(dir, "render --mesh " + kBlob + " --sigma-s 4 --sigma-a 1 --width 16 --height 16 --spp 64 "
+                              "--time 0.000001 --out " + dir.file("r.exr"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(lines(r.err) == 1);
+    CHECK_THAT(r.err, Catch::Contains("ran out before every pixel had a sample") &&
+                          Catch::Contains("of 256 pixels are black (no sample)"));
+    CHECK_THAT(r.out, Catch::Contains("stopped by time"));
 }

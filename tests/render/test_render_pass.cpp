@@ -84,3 +84,36 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
         CHECK_FALSE(identical(render_pass(scene, camera, settings, {0, 37}, all), whole));
     }
 }
+
+TEST_CASE("a time budget that runs out in the first pass stops it, and the pixels it left are counted",
+          "[render_pass]") {
+    const TriangleMesh mesh = icosphere(2, 1.f);
+    const MeshAccel accel(mesh);
+    const HomogeneousMedium medium(Spectrum(2.f), Spectrum(0.5f));
+    Scene scene;
+    scene.boundary = &accel;
+    scene.medium = &medium;
+    scene.fit_ray_epsilon();
+    CameraParams cp;
+    cp.origin = {0.f, 0.f, 4.f};
+    cp.width = 16;
+    cp.height = 12;
+    const PinholeCamera camera(cp);
+    RenderSettings settings;
+    settings.spp = 64;
+    // A budget already spent when the first pixel starts: no pixel gets a
+    // sample, and the render says so instead of running the pass out.
+    settings.time_limit = 1e-9;
+    const RenderResult cut = render(scene, camera, settings);
+    CHECK(cut.stopped_by == "time");
+    CHECK(cut.unsampled_pixels == 16u * 12u);
+    CHECK(cut.film.spp() == 0);
+    REQUIRE(cut.passes.size() == 1);
+    CHECK(cut.passes[0].spp == 0);
+    // Without a budget every pixel holds every sample; the first pass is one sample.
+    settings.time_limit = 0.0;
+    const RenderResult whole = render(scene, camera, settings);
+    CHECK(whole.unsampled_pixels == 0u);
+    CHECK(whole.film.fewest_samples() == 64);
+    CHECK(whole.passes[0].spp == 1);
+}

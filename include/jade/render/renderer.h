@@ -53,6 +53,9 @@ struct RenderResult {
     PathCounters counters;
     double seconds = 0.0;
     std::string stopped_by;  // "spp", "time" or "target error"
+    // Pixels that hold no sample: a time budget that ran out during the
+    // first pass leaves them black (reported, never hidden).
+    std::size_t unsampled_pixels = 0;
 };
 
 // Samples [first, last) of each pixel, and a rectangle of pixels [x0, x1) × [y0, y1).
