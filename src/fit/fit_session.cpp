@@ -177,6 +177,8 @@ FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<
         rec.distance[c] = look.d[c];
         rec.s_photo[c] = look.s_photo[c];
         rec.s_render[c] = look.s_render[c];
+        rec.at_black[c] = st.histogram.proportion(c, 0);
+        rec.at_white[c] = st.histogram.proportion(c, 255);
     }
     rec.structure = look.structure;
     outcome_.records.push_back(rec);
@@ -256,7 +258,9 @@ void FitSession::finish(const FitDriver& driver) {
 // A photo channel with most object pixels at level 0 or 255 says only
 // "this dark or darker" / "this bright or brighter": a render whose A matches
 // it is not thereby the stone, so the channel is reported as clipped, not
-// converged (a pure black or white photo "converged" before).
+// converged (a pure black or white photo "converged" before). The same holds
+// for the render at the fitted k_s and contrast: clipped at the exposure (a
+// given --exposure far too high or low), its A is only a bound too.
 void FitSession::mark_clipped_channels() {
     const std::vector<Rgb8> levels = photo_.foreground_levels();
     if (levels.empty()) return;
@@ -267,16 +271,35 @@ void FitSession::mark_clipped_channels() {
             high += l[c] == 255;
         }
         const double share = double(std::max(low, high)) / double(levels.size());
-        if (share <= kClippedShare) continue;
-        char why[256];
-        std::snprintf(why, sizeof why,
-                      "%s: %.0f%% of the photo's object pixels are at level %d (clipped), so its brightness "
-                      "there is only a bound and the fit cannot be judged; use a photo exposed %s",
-                      channel_name(c), 100.0 * share, high >= low ? 255 : 0, high >= low ? "darker" : "brighter");
+        char why[320];
+        if (share > kClippedShare) {
+            std::snprintf(why, sizeof why,
+                          "%s: %.0f%% of the photo's object pixels are at level %d (clipped), so its brightness "
+                          "there is only a bound and the fit cannot be judged; use a photo exposed %s",
+                          channel_name(c), 100.0 * share, high >= low ? 255 : 0, high >= low ? "darker" : "brighter");
+        } else if (const FitRecord* r = final_record(c); r && std::max(r->at_black[c], r->at_white[c]) > kClippedShare) {
+            const bool white = r->at_white[c] >= r->at_black[c];
+            std::snprintf(why, sizeof why,
+                          "%s: %.0f%% of the render's object pixels are at level %d at exposure %.4g (the render "
+                          "clips), so its brightness is only a bound and the fit cannot be judged; use a %s --exposure "
+                          "(0: found from the renders)",
+                          channel_name(c), 100.0 * std::max(r->at_black[c], r->at_white[c]), white ? 255 : 0,
+                          outcome_.exposure, white ? "lower" : "higher");
+        } else {
+            continue;
+        }
         outcome_.state[c] = ChannelState::Clipped;
         outcome_.reason[c] = why;
         outcome_.converged = false;
     }
+}
+
+// The latest fitting render (not a shading render) at the fitted k_s and
+// contrast of channel c, or none.
+const FitRecord* FitSession::final_record(int c) const {
+    for (auto it = outcome_.records.rbegin(); it != outcome_.records.rend(); ++it)
+        if (!it->shading && it->ks[c] == outcome_.ks[c] && it->contrast[c] == outcome_.contrast[c]) return &*it;
+    return nullptr;
 }
 
 int FitSession::fitting_renders() const { return int(outcome_.records.size()); }

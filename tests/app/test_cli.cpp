@@ -611,6 +611,21 @@ TEST_CASE("pipeline: flat, tiny, dark, white and clipped photos end with explain
     }
 }
 
+TEST_CASE("pipeline: a render that clips at a given exposure is reported, not converged", "[cli][fit]") {
+    TempDir dir;
+    const Result r = run(dir, "--photo " JADE_DATA_DIR "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow + kSmall +
+                                  " --fit bisect --exposure 1000 --fit-max-renders 4 --out " + dir.file("out"));
+    INFO(r.out << r.err);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("NOT converged"));
+    CHECK_THAT(r.err, Catch::Contains("of the render's object pixels are at level 255 at exposure 1000 (the render "
+                                      "clips)") && Catch::Contains("use a lower --exposure"));
+    std::ifstream report(dir.file("out/report.json"));
+    std::stringstream text;
+    text << report.rdbuf();
+    CHECK_THAT(text.str(), Catch::Contains("(the render clips)"));
+}
+
 TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries the exposure",
           "[cli][fit][job]") {
     TempDir dir;

@@ -57,6 +57,9 @@ struct FitRecord {
     // (fit/appearance.h); -1 where no shading render was made.
     std::array<double, 3> s_material{-1, -1, -1}, s_photo_scaled{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
+    // Shares of the render's object pixels at display level 0 and 255 (a
+    // render that clips has a brightness that is only a bound).
+    std::array<double, 3> at_black{}, at_white{};
     bool shading = false;                          // a render of the mean medium (contrast 0), not a fit step
 };
 
@@ -98,6 +101,7 @@ private:
     void finish(const FitDriver& driver);
     void fit_contrast();
     void mark_clipped_channels();
+    const FitRecord* final_record(int c) const;
     std::array<double, 3> brightness_slopes() const;
     double k_min_at(int channel, double contrast) const;
     int fitting_renders() const;
