@@ -42,6 +42,7 @@ struct Vec3Flag {
 
 struct VolumeOptions {
     std::string photo, mask, out, preview;
+    bool z_up = false;
     jade::NoiseParams noise;
     std::string structure = "photo";
     std::string match = "joint";
@@ -131,7 +132,7 @@ int run_volume(VolumeOptions& o) {
     const double volume_s = t_volume.seconds();
 
     const jade::Stopwatch t_write;
-    jade::write_material_vdb(o.out, volume);
+    jade::write_material_vdb(o.out, volume, jade::VdbLayout{nullptr, o.z_up});
     const double write_s = t_write.seconds();
 
     if (structure == jade::StructureMode::Photo)
@@ -483,6 +484,8 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
                    "Fit this jaderender .vdb's k_s instead of building a volume from the photo");
     app.add_flag("--flat", p.scene.job.flat_normals, "Shade the boundary with face normals");
     app.add_flag("--allow-open", p.scene.job.allow_open, "Use a mesh with many open edges anyway");
+    app.add_flag("--z-up", p.options.vdb_z_up,
+                 "Write volume.vdb's grids Z-up (Blender) rather than Y-up (glTF, Houdini); jaderender reads both");
     group_from(app, first, "Object and output");
     add_scene_flags(app, p.scene, "--render-seed");
     jade::PipelineOptions& o = p.options;
@@ -732,6 +735,7 @@ int run_command(int argc, char** argv) {
     volume_cmd->add_option("--out", vol.out, "Output .vdb file")->required();
     volume_cmd->add_option("--contrast", vol.contrast.text,
                            "Contrast of the levels about their mean, r,g,b (0..16; default 1, the paper's)");
+    volume_cmd->add_flag("--z-up", vol.z_up, "Write the grids Z-up (Blender) rather than Y-up (glTF, Houdini)");
     volume_cmd->add_option("--preview", vol.preview,
                            "Also write the middle slice of the matched noise as an image");
 

@@ -123,7 +123,9 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     // vouches for a mix of two runs' files.
     fs::remove(out("report.json"), ec);
     const float exposure = res.fit.exposure;
-    write_material_vdb(out("volume.vdb"), volume);
+    // The coefficient grids only inside the mesh (other tools see the stone,
+    // not a block of fog); the levels cover the cube for any other mesh.
+    write_material_vdb(out("volume.vdb"), volume, VdbLayout{&prep.mesh, o.vdb_z_up});
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);
     write_text_file(out("fit.csv"), fit_csv(res.fit.records));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);

@@ -73,6 +73,8 @@ void write_exr_parts(const std::string& path, const std::vector<ExrPart>& parts)
 
 namespace {
 
+std::vector<ExrPart> read_parts(const std::string& path, int max_parts, int max_channels);
+
 ExrPart read_part(const std::string& path, OIIO::ImageInput& in, int max_channels) {
     const OIIO::ImageSpec& spec = in.spec();
     ExrPart p;
@@ -111,6 +113,15 @@ ExrPart read_part(const std::string& path, OIIO::ImageInput& in, int max_channel
 }  // namespace
 
 std::vector<ExrPart> read_exr_parts(const std::string& path, int max_parts, int max_channels) {
+    try {
+        return read_parts(path, max_parts, max_channels);
+    } catch (const std::bad_alloc&) {
+        fail_file(path, "damaged: its header asks for more memory than an image of its size needs");
+    }
+}
+
+namespace {
+std::vector<ExrPart> read_parts(const std::string& path, int max_parts, int max_channels) {
     const QuietStderr quiet;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
@@ -126,5 +137,6 @@ std::vector<ExrPart> read_exr_parts(const std::string& path, int max_parts, int 
     in->geterror();  // seeking past the last part leaves a message that is no error
     return parts;
 }
+}  // namespace
 
 }  // namespace jade

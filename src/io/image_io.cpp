@@ -51,7 +51,22 @@ void write_image_f32(const std::string& path, int width, int height, int channel
 }
 
 
+namespace {
+ImageF32 read_image(const std::string& path);
+}
+
+// A damaged header can make a decoder allocate whatever it claims: that is
+// the file's fault, said in one line, like any other damage.
 ImageF32 read_image_f32(const std::string& path) {
+    try {
+        return read_image(path);
+    } catch (const std::bad_alloc&) {
+        fail_file(path, "damaged: its header asks for more memory than an image of its size needs");
+    }
+}
+
+namespace {
+ImageF32 read_image(const std::string& path) {
     const QuietStderr quiet;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
@@ -89,6 +104,7 @@ ImageF32 read_image_f32(const std::string& path) {
         if (!std::isfinite(v)) fail_file(path, "image holds NaN or infinite values");
     return img;
 }
+}  // namespace
 
 ImageF32 resize_image(const ImageF32& image, int width, int height) {
     const OIIO::ImageSpec in_spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);

@@ -6,11 +6,16 @@
 
 #include <glm/common.hpp>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tools/Prune.h>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
 #include <sys/wait.h>
 #include <sys/resource.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cmath>
@@ -30,7 +35,10 @@ namespace {
 }
 
 constexpr const char* kFormat = "jaderender material volume";
-constexpr int kFormatVersion = 1;
+// 1: levels recovered from sigma_s/sigma_a over the whole cube. 2: the
+// levels in a grid of their own, the coefficient grids possibly masked to the
+// mesh and rotated Z-up.
+constexpr int kFormatVersion = 2;
 
 // One leaf origin per 8^3 block of the cube.
 std::vector<openvdb::Coord> leaf_origins(int s) {
@@ -57,20 +65,53 @@ typename GridT::Ptr make_grid(const std::string& name, const std::string& units,
     return grid;
 }
 
-openvdb::math::Transform::Ptr cube_transform(const MaterialVolume& v) {
+openvdb::math::Transform::Ptr cube_transform(const MaterialVolume& v, bool z_up) {
     const double h = v.voxel_size();
     auto xform = openvdb::math::Transform::createLinearTransform(h);
     xform->postTranslate(openvdb::Vec3d(v.cube.min[0] + 0.5 * h, v.cube.min[1] + 0.5 * h,
                                         v.cube.min[2] + 0.5 * h));
+    // Y-up world → Z-up world: (x, y, z) → (x, −z, y), +90° about x, the
+    // turn Blender's glTF importer gives the mesh.
+    if (z_up) xform->postRotate(0.5 * M_PI, openvdb::math::X_AXIS);
     return xform;
 }
 
-// The four grids of a material volume (docs/design.md, "The .vdb file"),
-// filled from its levels.
-openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v) {
+// The voxels inside `mesh` on the volume's grid, grown by one voxel so that
+// interpolation at the surface reads coefficients rather than the empty
+// background: OpenVDB's mesh-to-level-set, its interior, dilated.
+openvdb::BoolGrid::Ptr interior_mask(const MaterialVolume& v, const TriangleMesh& mesh) {
+    const auto xform = cube_transform(v, false);
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(mesh.positions.size());
+    for (const glm::vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+    std::vector<openvdb::Vec3I> triangles;
+    triangles.reserve(mesh.triangles.size());
+    for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+    const auto sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, triangles, 3.f);
+    auto mask = openvdb::tools::sdfInteriorMask(*sdf);
+    openvdb::tools::dilateActiveValues(mask->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                       openvdb::tools::EXPAND_TILES);
+    return mask;
+}
+
+// The leaves of the cube that hold a voxel of the mask (all with none).
+std::vector<openvdb::Coord> masked_origins(const std::vector<openvdb::Coord>& origins, const openvdb::BoolGrid* mask) {
+    if (!mask) return origins;
+    std::vector<openvdb::Coord> kept;
+    const auto& tree = mask->tree();
+    for (const openvdb::Coord& o : origins) {
+        const auto* leaf = tree.probeConstLeaf(o);
+        if (leaf ? !leaf->isEmpty() : tree.isValueOn(o)) kept.push_back(o);
+    }
+    return kept;
+}
+
+// The four coefficient grids of a material volume (docs/design.md, "The .vdb
+// file"), filled from its levels; only the voxels of `mask` when one is given.
+openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v, const openvdb::BoolGrid* mask, bool z_up) {
     const int s = v.resolution;
-    const auto xform = cube_transform(v);
-    const auto origins = leaf_origins(s);
+    const auto xform = cube_transform(v, z_up);
+    const auto origins = masked_origins(leaf_origins(s), mask);
     std::vector<openvdb::Vec3fGrid::TreeType::LeafNodeType*> ls, la, lc;
     std::vector<openvdb::FloatGrid::TreeType::LeafNodeType*> ld;
     auto sigma_s = make_grid<openvdb::Vec3fGrid>("sigma_s", "1/world unit",
@@ -85,10 +126,12 @@ openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v) {
     const CoefficientTable table(v.optics, v.cube.side);
     tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t li) {
         const openvdb::Coord o = origins[li];
+        auto inside = mask ? std::make_unique<openvdb::BoolGrid::ConstAccessor>(mask->getConstAccessor()) : nullptr;
         // x innermost: the levels are stored x fastest.
         for (int z = o.z(); z < std::min(o.z() + 8, s); ++z)
             for (int y = o.y(); y < std::min(o.y() + 8, s); ++y)
                 for (int x = o.x(); x < std::min(o.x() + 8, s); ++x) {
+                    if (inside && !inside->isValueOn(openvdb::Coord(x, y, z))) continue;
                     const Rgb8 lv = v.levels[v.index(x, y, z)];
                     openvdb::Vec3f ss, sa, albedo;
                     for (int c = 0; c < 3; ++c) {
@@ -106,10 +149,34 @@ openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v) {
                     ld[li]->setValueOn(off, mean_st);
                 }
     });
-    // sigma_s and sigma_a, the grids the reader recovers the levels from, go
-    // last: a file cut short then loses part of them, which the levels'
-    // digest reveals, instead of the end of a grid no reader here checks.
     return {density, color, sigma_s, sigma_a};
+}
+
+// The levels themselves, every voxel of the cube (the material is the whole
+// cube; a mesh only carves it), packed r | g << 8 | b << 16 in an Int32 grid
+// (OpenVDB has no 3-byte type): what jaderender reads back, exactly and
+// without inverting coefficients.
+constexpr const char* kLevelsGrid = "levels";
+openvdb::Int32Grid::Ptr levels_grid(const MaterialVolume& v, bool z_up) {
+    const int s = v.resolution;
+    const auto origins = leaf_origins(s);
+    std::vector<openvdb::Int32Grid::TreeType::LeafNodeType*> leaves;
+    auto grid = make_grid<openvdb::Int32Grid>(kLevelsGrid, "none",
+                                              "the material's 8-bit levels, r | g << 8 | b << 16 (jaderender)",
+                                              cube_transform(v, z_up), origins, leaves);
+    grid->setGridClass(openvdb::GRID_UNKNOWN);
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t li) {
+        const openvdb::Coord o = origins[li];
+        for (int z = o.z(); z < std::min(o.z() + 8, s); ++z)
+            for (int y = o.y(); y < std::min(o.y() + 8, s); ++y)
+                for (int x = o.x(); x < std::min(o.x() + 8, s); ++x) {
+                    const Rgb8 l = v.levels[v.index(x, y, z)];
+                    leaves[li]->setValueOn(openvdb::Int32Grid::TreeType::LeafNodeType::coordToOffset(
+                                               openvdb::Coord(x, y, z)),
+                                           std::int32_t(l[0] | (l[1] << 8) | (l[2] << 16)));
+                }
+    });
+    return grid;
 }
 
 // A 64-bit digest of the levels (FNV-1a), written as hex beside them and
@@ -195,8 +262,10 @@ public:
 void write_checked(const AtomicFile& out, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta) {
     const std::string& temp = out.temp_path();
     CheckedVdbFile file(temp);
-    // Blosc (LZ4) writes several times faster than zip at a similar size.
-    file.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+    // Zip rather than Blosc: zlib refuses damaged input where OpenVDB's Blosc
+    // path corrupted the heap (the damaged-file test), and with the grids
+    // masked to the mesh the slower writing costs under a second.
+    file.setCompression(openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK);
     std::ofstream os(temp, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
     if (!os) fail_file(out.destination(), "cannot open for writing");
     file.write_to(os, grids, meta);
@@ -219,32 +288,39 @@ bool fits_half(const CoefficientTable& table) {
 }  // namespace
 
 void require_memory_for_volume(int resolution) {
-    // Levels (3 bytes) + sigma_s, sigma_a, color (12 each) + density (4).
-    constexpr std::uint64_t kBytesPerVoxel = 3 + 3 * sizeof(openvdb::Vec3f) + sizeof(float);
+    // Levels (3 bytes) + their Int32 grid (4) + sigma_s, sigma_a, color (12
+    // each) + density (4), these four at most the whole cube (unmasked).
+    constexpr std::uint64_t kBytesPerVoxel = 3 + sizeof(std::int32_t) + 3 * sizeof(openvdb::Vec3f) + sizeof(float);
     const std::uint64_t s = std::uint64_t(std::max(resolution, 0));
     require_memory(kBytesPerVoxel * s * s * s, "--resolution " + std::to_string(resolution));
 }
 
-void write_material_vdb(const std::string& path, const MaterialVolume& v) {
+void write_material_vdb(const std::string& path, const MaterialVolume& v, const VdbLayout& layout) {
     openvdb::initialize();
     const int s = v.resolution;
     if (s <= 0 || v.levels.size() != std::size_t(s) * s * s)
         throw Error("internal: material volume levels do not match its resolution");
-    const openvdb::GridPtrVec grids = coefficient_grids(v);
-    const openvdb::MetaMap meta = material_metadata(v);
+    const openvdb::BoolGrid::Ptr mask = layout.mask ? interior_mask(v, *layout.mask) : nullptr;
+    openvdb::GridPtrVec grids = coefficient_grids(v, mask.get(), layout.z_up);
+    // The levels go last: a file cut short then loses part of them, which
+    // their digest reveals, instead of the end of a grid no reader here checks.
+    grids.push_back(levels_grid(v, layout.z_up));
+    openvdb::MetaMap meta = material_metadata(v);
+    meta.insertMeta("jade:up_axis", openvdb::StringMetadata(layout.z_up ? "z" : "y"));
+    meta.insertMeta("jade:masked", openvdb::StringMetadata(layout.mask ? "coefficient grids inside the mesh, "
+                                                                         "grown by one voxel; levels: the whole cube"
+                                                                       : "no: every voxel of the cube"));
 
     AtomicFile out(path);
     try {
-        // Half floats when sigma_a pins down every level (d_a > 0): their
-        // relative error (<= 2^-11) is far below the spacing of adjacent levels
-        // (>= 1/255 relative), so nothing the levels say is lost, and the file
-        // is 30% smaller and faster to write. Without absorption the levels
-        // come from sigma_s, where a large k_s would eat that margin: full floats;
-        // full floats also where a coefficient leaves half's normal range
-        // (--density-scale 1e5 overflowed it, and the file then failed its
-        // own check against the metadata).
-        const bool half = v.optics.da > 0.0 && fits_half(CoefficientTable(v.optics, v.cube.side));
-        for (const auto& g : grids) g->setSaveFloatAsHalf(half);
+        // Half floats for the coefficient grids (they are for other tools:
+        // jaderender reads the levels grid): their relative error (<= 2^-11)
+        // is far below the spacing of adjacent levels (>= 1/255 relative),
+        // and the file is smaller and faster to write. Full floats where a
+        // coefficient leaves half's normal range (--density-scale 1e5
+        // overflowed it).
+        const bool half = fits_half(CoefficientTable(v.optics, v.cube.side));
+        for (const auto& g : grids) g->setSaveFloatAsHalf(half && g->getName() != kLevelsGrid);
         write_checked(out, grids, meta);
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot write OpenVDB file: ") + e.what());
@@ -335,10 +411,12 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
 // (where every clipped level gives the same coefficients); without
 // absorption, sigma_s = v'_c d_s + k_s. -1 when the grids do not follow from
 // that level and the metadata (to half-float precision).
+// Whether a stored coefficient is the one a level gives, to half-float precision.
+bool same_coefficient(float want, float got) { return std::abs(want - got) <= 1e-3f * std::abs(want) + 1e-6f; }
+
 int level_of_channel(int c, float ss, float sa, const MaterialVolume& v, const CoefficientTable& table) {
     const double to_paper = v.cube.side / v.optics.density_scale;
     const bool by_a = v.optics.da > 0.0;
-    auto close = [](float want, float got) { return std::abs(want - got) <= 1e-3f * std::abs(want) + 1e-6f; };
     const auto& column = by_a ? table.sigma_a[c] : table.sigma_s[c];
     const float stored = by_a ? sa : ss;
     const double vc_contrasted = by_a ? 1.0 - stored * to_paper / (v.optics.ds * v.optics.da)
@@ -349,7 +427,7 @@ int level_of_channel(int c, float ss, float sa, const MaterialVolume& v, const C
     int best = guess;
     for (int l = std::max(0, guess - 4); l <= std::min(255, guess + 4); ++l)
         if (std::abs(column[l] - stored) < std::abs(column[best] - stored)) best = l;
-    return close(table.sigma_s[c][best], ss) && close(table.sigma_a[c][best], sa) ? best : -1;
+    return same_coefficient(table.sigma_s[c][best], ss) && same_coefficient(table.sigma_a[c][best], sa) ? best : -1;
 }
 
 // level_of_channel remembered per channel for the (sigma_s, sigma_a) pairs
@@ -383,10 +461,20 @@ private:
     std::array<std::array<Slot, 1u << kBits>, 3> slots_;
 };
 
-// The levels of z-slices [z0, z1), from the grids clipped to them. False on a
-// voxel whose grids do not follow from the metadata.
+constexpr const char* kNotFollowing =
+    "its sigma_s/sigma_a grids do not follow from its jade: metadata (damaged, cut short, or edited by another tool)";
+
+// What a slab of the coefficient grids is read for.
+enum class SlabUse {
+    Recover,  // format 1: the levels from the coefficients
+    Verify    // format 2: the coefficients (where active) against the levels read
+};
+
+// The sigma_s and sigma_a grids of z-slices [z0, z1), clipped to them, for
+// `use`. False on a voxel whose grids do not follow from the levels and the
+// metadata.
 bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, int z1, MaterialVolume& v,
-                     const CoefficientTable& table) {
+                     const CoefficientTable& table, SlabUse use, bool z_up) {
     const int s = v.resolution;
     const double h = v.voxel_size();
     const auto& m = v.cube.min;
@@ -395,9 +483,12 @@ bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, i
     // centres exactly on the bounds rounding dropped the last row at some
     // sizes (12³ could not be read back).
     const double margin = 0.25 * h;
-    const openvdb::BBoxd box(
+    openvdb::BBoxd box(
         openvdb::Vec3d(m[0] + 0.5 * h - margin, m[1] + 0.5 * h - margin, m[2] + (z0 + 0.5) * h - margin),
         openvdb::Vec3d(m[0] + (s - 0.5) * h + margin, m[1] + (s - 0.5) * h + margin, m[2] + (z1 - 0.5) * h + margin));
+    if (z_up)  // the same box in the turned world: (x, y, z) → (x, −z, y)
+        box = openvdb::BBoxd(openvdb::Vec3d(box.min().x(), -box.max().z(), box.min().y()),
+                             openvdb::Vec3d(box.max().x(), -box.min().z(), box.max().y()));
     openvdb::Vec3fGrid::Ptr gs, ga;
     try {
         gs = openvdb::gridPtrCast<openvdb::Vec3fGrid>(file.readGrid("sigma_s", box));
@@ -412,12 +503,21 @@ bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, i
     tbb::parallel_for(z0, z1, [&](int z) {
         auto acc_s = gs->getConstAccessor();
         auto acc_a = ga->getConstAccessor();
-        auto memo = std::make_unique<LevelMemo>(v, table);
+        auto memo = use == SlabUse::Recover ? std::make_unique<LevelMemo>(v, table) : nullptr;
         for (int y = 0; y < s; ++y)
             for (int x = 0; x < s; ++x) {
                 const openvdb::Coord xyz(x, y, z);
                 const openvdb::Vec3f ss = acc_s.getValue(xyz), sa = acc_a.getValue(xyz);
                 Rgb8& lv = v.levels[v.index(x, y, z)];
+                if (use == SlabUse::Verify) {
+                    // Outside the mesh the grids are empty (a masked file).
+                    if (!acc_s.isValueOn(xyz) && !acc_a.isValueOn(xyz)) continue;
+                    for (int c = 0; c < 3; ++c)
+                        if (!same_coefficient(table.sigma_s[c][lv[c]], ss[c]) ||
+                            !same_coefficient(table.sigma_a[c][lv[c]], sa[c]))
+                            ok = false;
+                    continue;
+                }
                 for (int c = 0; c < 3; ++c) {
                     const int l = memo->level(c, ss[c], sa[c]);
                     if (l < 0) ok = false;
@@ -444,19 +544,11 @@ std::uint64_t address_space_bytes() {
     return pages * std::uint64_t(::sysconf(_SC_PAGESIZE));
 }
 
-// A damaged .vdb can make OpenVDB allocate whatever a corrupt length field
-// in its header says (a "grid type" of 1.45 GB, 8.6 GB resident) before it
-// fails. So the existence check, header, metadata and every grid's
-// descriptor and metadata are first read in a child process whose address
-// space is capped at kHeaderBudgetBytes more than ours: a file whose header
-// asks for more is refused, and this process never allocates it. The grids'
-// data comes later, in blocks whose sizes the tree's fixed shape bounds.
-void check_vdb_header(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+template <typename Read>
+void check_in_child(const std::string& path, std::uint64_t budget, const char* what, Read read) {
     int fds[2];
     if (::pipe(fds) != 0) return;  // cannot check: read as before
-    const std::uint64_t cap = address_space_bytes() + kHeaderBudgetBytes;
+    const std::uint64_t cap = address_space_bytes() + budget;
     const pid_t pid = ::fork();
     if (pid < 0) {
         ::close(fds[0]);
@@ -472,8 +564,7 @@ void check_vdb_header(const std::string& path) {
         try {
             openvdb::io::File file(path);
             file.open(false);
-            file.getMetadata();
-            file.readAllGridMetadata();
+            read(file);
             file.close();
         } catch (const std::bad_alloc&) {
             code = 2;
@@ -495,7 +586,115 @@ void check_vdb_header(const std::string& path) {
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
     if (WIFEXITED(status) && WEXITSTATUS(status) == 1)
         fail_file(path, "cannot read as OpenVDB: " + message);
-    fail_file(path, "damaged: its header asks for more memory than any .vdb header needs");
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 2)
+        fail_file(path, std::string("damaged: its ") + what + " asks for more memory than it can need");
+    fail_file(path, std::string("damaged: OpenVDB fails reading its ") + what);
+}
+
+// The existence check, header, metadata and every grid's descriptor and
+// metadata, read in a child process (check_in_child): a damaged .vdb can make
+// OpenVDB allocate whatever a corrupt length field in its header says (a
+// "grid type" of 1.45 GB, 8.6 GB resident) before it fails.
+void check_vdb_header(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    check_in_child(path, kHeaderBudgetBytes, "header", [](openvdb::io::File& file) {
+        file.getMetadata();
+        file.readAllGridMetadata();
+    });
+}
+
+// Every grid of a jaderender volume of s³ voxels read whole in a child
+// process, allowed the memory four float grids of the cube take (and the
+// header's budget) and no more: a file that crashes OpenVDB or asks for more
+// is refused before this process reads it.
+void check_vdb_grids(const std::string& path, int resolution) {
+    const std::uint64_t s = std::uint64_t(resolution);
+    check_in_child(path, kHeaderBudgetBytes + 48 * s * s * s, "grids",
+                   [](openvdb::io::File& file) { file.getGrids(); });
+}
+
+}  // namespace
+
+namespace {
+
+// Grid `name` read whole as a GridT; a grid of another type is refused with
+// `type_name` in the message.
+template <typename GridT>
+typename GridT::Ptr read_whole_grid(openvdb::io::File& file, const std::string& path, const std::string& name,
+                                    const char* type_name) {
+    typename GridT::Ptr grid;
+    try {
+        grid = openvdb::gridPtrCast<GridT>(file.readGrid(name));
+    } catch (const openvdb::Exception& e) {
+        fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
+    } catch (const std::bad_alloc&) {
+        fail_vdb_too_large(path);
+    }
+    if (!grid) fail_file(path, "its '" + name + "' grid is not " + type_name + " grid");
+    return grid;
+}
+
+// Format 2: the levels grid, read whole and unpacked by index (whatever
+// way its transform turns the world).
+void read_levels_grid(openvdb::io::File& file, const std::string& path, MaterialVolume& v) {
+    const auto grid = read_whole_grid<openvdb::Int32Grid>(file, path, kLevelsGrid, "an Int32");
+    const int s = v.resolution;
+    std::atomic<bool> ok{true};
+    tbb::parallel_for(0, s, [&](int z) {
+        auto acc = grid->getConstAccessor();
+        for (int y = 0; y < s; ++y)
+            for (int x = 0; x < s; ++x) {
+                const std::int32_t packed = acc.getValue(openvdb::Coord(x, y, z));
+                if (packed < 0 || packed >= (1 << 24)) ok = false;
+                v.levels[v.index(x, y, z)] = {std::uint8_t(packed), std::uint8_t(packed >> 8),
+                                              std::uint8_t(packed >> 16)};
+            }
+    });
+    if (!ok) fail_file(path, "its 'levels' grid holds values that are not 8-bit RGB levels (damaged)");
+}
+
+// Format 2: the coefficient grids (where active: inside the mesh when
+// masked) checked against the levels read, so that a file whose grids
+// another tool edited is refused rather than rendered as if unedited. Read
+// whole, as check_vdb_grids read them in its child process.
+void verify_coefficient_grids(openvdb::io::File& file, const std::string& path, const MaterialVolume& v) {
+    const CoefficientTable table(v.optics, v.cube.side);
+    const int s = v.resolution;
+    for (const char* name : {"sigma_s", "sigma_a"}) {
+        if (!file.hasGrid(name)) continue;
+        const auto grid = read_whole_grid<openvdb::Vec3fGrid>(file, path, name, "a Vec3f");
+        const auto& column = name[6] == 's' ? table.sigma_s : table.sigma_a;
+        for (auto it = grid->cbeginValueOn(); it; ++it) {
+            const openvdb::CoordBBox box = it.getBoundingBox();
+            for (auto xyz = box.begin(); xyz; ++xyz) {
+                const openvdb::Coord c = *xyz;
+                const bool inside = c.x() >= 0 && c.y() >= 0 && c.z() >= 0 && c.x() < s && c.y() < s && c.z() < s;
+                const Rgb8 lv = inside ? v.levels[v.index(c.x(), c.y(), c.z())] : Rgb8{0, 0, 0};
+                const openvdb::Vec3f value = *it;
+                for (int ch = 0; ch < 3 && inside; ++ch)
+                    if (!same_coefficient(column[ch][lv[ch]], value[ch])) fail_file(path, kNotFollowing);
+                if (!inside) fail_file(path, kNotFollowing);
+            }
+        }
+    }
+}
+
+// The coefficient grids read by slabs: format 1 recovers the levels from them,
+// format 2 checks them against its levels (a file whose grids another tool
+// edited is refused rather than rendered as if unedited).
+void read_coefficient_slabs(openvdb::io::File& file, const std::string& path, MaterialVolume& v, SlabUse use,
+                            bool z_up) {
+    const int s = v.resolution;
+    const CoefficientTable table(v.optics, v.cube.side);
+    // A slab of z-slices at a time (OpenVDB skips the leaves outside a
+    // clipping box): reading costs a slab's worth of float grids beside the
+    // 3-byte levels instead of two whole Vec3f grids.
+    constexpr int kSlab = 32;
+    bool consistent = true;
+    for (int z0 = 0; z0 < s; z0 += kSlab)
+        consistent = read_level_slab(file, path, z0, std::min(s, z0 + kSlab), v, table, use, z_up) && consistent;
+    if (!consistent) fail_file(path, kNotFollowing);
 }
 
 }  // namespace
@@ -509,8 +708,8 @@ MaterialVolume read_material_vdb(const std::string& path) {
         file = std::make_unique<openvdb::io::File>(path);
         file->open(false);  // no memory mapping: mapped pages would count as our memory
         meta = file->getMetadata();
-        if (!file->hasGrid("sigma_s") || !file->hasGrid("sigma_a"))
-            fail_file(path, "no 'sigma_s' and 'sigma_a' grids");
+        if (!file->hasGrid(kLevelsGrid) && (!file->hasGrid("sigma_s") || !file->hasGrid("sigma_a")))
+            fail_file(path, "no 'levels' grid, nor 'sigma_s' and 'sigma_a' grids");
     } catch (const openvdb::Exception& e) {
         fail_file(path, std::string("cannot read as OpenVDB: ") + e.what());
     } catch (const std::bad_alloc&) {
@@ -518,19 +717,17 @@ MaterialVolume read_material_vdb(const std::string& path) {
     }
     MaterialVolume v = material_from_metadata(*meta, path);
     const int s = v.resolution;
+    check_vdb_grids(path, s);
     v.levels.assign(std::size_t(s) * s * s, Rgb8{0, 0, 0});
-    const CoefficientTable table(v.optics, v.cube.side);
-    // A slab of z-slices at a time (OpenVDB skips the leaves outside a
-    // clipping box): reading costs a slab's worth of float grids beside the
-    // 3-byte levels instead of two whole Vec3f grids.
-    constexpr int kSlab = 32;
-    bool consistent = true;
-    for (int z0 = 0; z0 < s; z0 += kSlab)
-        consistent = read_level_slab(*file, path, z0, std::min(s, z0 + kSlab), v, table) && consistent;
+    const auto up = meta->getMetadata<openvdb::StringMetadata>("jade:up_axis");
+    const bool z_up = up && up->value() == "z";
+    if (file->hasGrid(kLevelsGrid)) {
+        read_levels_grid(*file, path, v);
+        verify_coefficient_grids(*file, path, v);
+    } else {
+        read_coefficient_slabs(*file, path, v, SlabUse::Recover, z_up);
+    }
     file->close();
-    if (!consistent)
-        fail_file(path, "its sigma_s/sigma_a grids do not follow from its jade: metadata "
-                        "(damaged, cut short, or edited by another tool)");
     // Files written before the digest existed have none to compare.
     if (const auto digest = meta->getMetadata<openvdb::StringMetadata>("jade:levels_digest"))
         if (digest->value() != levels_digest(v))

@@ -2,11 +2,15 @@
 
 #include "jade/core/error.h"
 #include "jade/volume/material_volume.h"
+#include "jade/geometry/mesh.h"
 #include "jade/io/vdb_io.h"
 
 #include "support/test_util.h"
 
 #include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
 #include <openvdb/openvdb.h>
 
 #include <fstream>
@@ -192,7 +196,7 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
 }
 
-TEST_CASE("plain OpenVDB sees four fog-volume grids with the documented names, types and "
+TEST_CASE("plain OpenVDB sees four fog-volume grids and the levels with the documented names, types and "
           "transform", "[vdb]") {
     TempDir dir;
     OpticalParams optics;
@@ -206,10 +210,18 @@ TEST_CASE("plain OpenVDB sees four fog-volume grids with the documented names, t
     auto grids = file.getGrids();
     auto meta = file.getMetadata();
     file.close();
-    REQUIRE(grids->size() == 4);
+    REQUIRE(grids->size() == 5);
 
     std::map<std::string, openvdb::GridBase::Ptr> by_name;
     for (auto& g : *grids) by_name[g->getName()] = g;
+    // The levels, packed r | g << 8 | b << 16, every voxel.
+    auto levels = openvdb::gridPtrCast<openvdb::Int32Grid>(by_name["levels"]);
+    REQUIRE(levels);
+    const Rgb8 l = v.levels[v.index(5, 9, 15)];
+    CHECK(levels->tree().getValue(openvdb::Coord(5, 9, 15)) == (l[0] | (l[1] << 8) | (l[2] << 16)));
+    by_name.erase("levels");
+    grids->erase(std::remove_if(grids->begin(), grids->end(), [](const auto& g) { return g->getName() == "levels"; }),
+                 grids->end());
     auto ss = openvdb::gridPtrCast<openvdb::Vec3fGrid>(by_name["sigma_s"]);
     auto sa = openvdb::gridPtrCast<openvdb::Vec3fGrid>(by_name["sigma_a"]);
     auto density = openvdb::gridPtrCast<openvdb::FloatGrid>(by_name["density"]);
@@ -255,7 +267,7 @@ TEST_CASE("plain OpenVDB sees four fog-volume grids with the documented names, t
     for (const char* key : {"jade:format", "jade:format_version", "jade:jaderender_version",
                             "jade:photo", "jade:resolution", "jade:octaves", "jade:k", "jade:seed",
                             "jade:match", "jade:ds", "jade:da", "jade:ks", "jade:density_scale",
-                            "jade:cube_min", "jade:cube_side", "jade:units"}) {
+                            "jade:cube_min", "jade:cube_side", "jade:units", "jade:up_axis", "jade:masked"}) {
         INFO(key);
         CHECK((*meta)[key]);
     }
@@ -386,4 +398,66 @@ TEST_CASE("foreign sigma grids may be float, rotated or missing grids are refuse
     other->tree().setValue(openvdb::Coord(0, 0, 0), 1.f);
     write_grids(dir.file("t.vdb"), {other});
     CHECK_THROWS_WITH(read_medium_vdb(dir.file("t.vdb"), {}), Catch::Contains("t.vdb"));
+}
+
+TEST_CASE("masked to a mesh and turned Z-up: the coefficient grids cover the interior, the levels the cube",
+          "[vdb]") {
+    TempDir dir;
+    const MaterialVolume v = sample_volume(32, OpticalParams{});
+    // A sphere inscribed in the cube (centre (0.5, 2, 3.5), radius 1.5).
+    TriangleMesh sphere = icosphere(4, 1.5f);
+    for (glm::vec3& p : sphere.positions) p += glm::vec3(0.5f, 2.f, 3.5f);
+    write_material_vdb(dir.file("m.vdb"), v, VdbLayout{&sphere, true});
+    // jaderender reads the same material, whole.
+    require_same(v, read_material_vdb(dir.file("m.vdb")));
+
+    openvdb::io::File file(dir.file("m.vdb"));
+    file.open();
+    auto grids = file.getGrids();
+    auto meta = file.getMetadata();
+    file.close();
+    CHECK(meta->metaValue<std::string>("jade:up_axis") == "z");
+    const double h = 3.0 / 32;
+    for (auto& g : *grids) {
+        INFO(g->getName());
+        if (g->getName() == "levels") {
+            CHECK(g->activeVoxelCount() == 32u * 32u * 32u);
+            continue;
+        }
+        // The sphere holds pi/6 of the cube; growing it by a voxel (faces,
+        // edges and corners: 1 to sqrt(3) voxels deep) adds its area times
+        // less than 2 voxels on average.
+        const double share = double(g->activeVoxelCount()) / (32.0 * 32.0 * 32.0);
+        CHECK(share > 0.5236 * 0.97);
+        CHECK(share < 0.5236 + 4.0 * M_PI * 1.5 * 1.5 * 2.0 * h / 27.0);
+        // The centre voxel (16, 16, 16) is active, a corner not.
+        auto on = [&](const openvdb::Coord& xyz) {
+            if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g)) return f->tree().isValueOn(xyz);
+            return openvdb::gridPtrCast<openvdb::Vec3fGrid>(g)->tree().isValueOn(xyz);
+        };
+        CHECK(on(openvdb::Coord(16, 16, 16)));
+        CHECK_FALSE(on(openvdb::Coord(0, 0, 0)));
+        // Z-up: the Y-up centre (x, y, z) of voxel (0, 0, 0) lands at (x, -z, y).
+        const openvdb::Vec3d p0 = g->indexToWorld(openvdb::Vec3d(0, 0, 0));
+        CHECK(p0.x() == Approx(-1.0 + 0.5 * h));
+        CHECK(p0.y() == Approx(-(2.0 + 0.5 * h)));
+        CHECK(p0.z() == Approx(0.5 + 0.5 * h));
+    }
+}
+
+TEST_CASE("a format 1 file (no levels grid) still reads: levels recovered from the coefficients", "[vdb]") {
+    TempDir dir;
+    const MaterialVolume v = sample_volume(16, OpticalParams{});
+    write_material_vdb(dir.file("v.vdb"), v);
+    openvdb::io::File f(dir.file("v.vdb"));
+    f.open();
+    auto grids = f.getGrids();
+    auto meta = f.getMetadata();
+    f.close();
+    grids->erase(std::remove_if(grids->begin(), grids->end(), [](const auto& g) { return g->getName() == "levels"; }),
+                 grids->end());
+    meta->removeMeta("jade:format_version");
+    meta->insertMeta("jade:format_version", openvdb::Int32Metadata(1));
+    openvdb::io::File(dir.file("v1.vdb")).write(*grids, *meta);
+    require_same(v, read_material_vdb(dir.file("v1.vdb")));
 }

@@ -34,6 +34,9 @@ struct PipelineOptions {
     // with the photo, shading divided out (fit/appearance.h,
     // compare_material). Costs about one more final render.
     bool measure_material = false;
+    // The .vdb's coefficient grids turned Z-up (Blender) instead of Y-up
+    // (glTF, Houdini); they are always masked to the mesh (io/vdb_io.h).
+    bool vdb_z_up = false;
 };
 
 struct PipelineResult {
