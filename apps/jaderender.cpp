@@ -526,8 +526,8 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
 
 int run_pipeline(PipelineFlags& p) {
     if (p.volume.photo.empty() || p.scene.job.mesh.empty())
-        throw jade::Error("give --photo and --mesh (the whole fit), or a command: volume, render, bench "
-                          "(see --help)");
+        throw jade::Error("give --photo and --mesh (the whole fit), or a command: volume, render, merge, batch, "
+                          "summary, bench (see --help)");
     resolve_flags(p.scene);
     jade::PipelineOptions& o = p.options;
     o.photo = p.volume.photo;
@@ -703,9 +703,8 @@ int run_batch_entry(const BatchFlags& b) {
     return run_command(int(args.size()), argv.data());
 }
 
-int run_command(int argc, char** argv) {
-    CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
-                 "materials (jade, marble) from one photograph"};
+// The top level's version flag and --help footer (an example that works).
+void describe_app(CLI::App& app) {
     app.set_version_flag("--version", std::string(JADE_VERSION));
     app.footer("Example: fit the demo photo onto the vase, outputs in out/onyx002/\n"
                "  jaderender --photo data/photos/ambientcg_Onyx002_512_diff.jpg "
@@ -713,6 +712,12 @@ int run_command(int argc, char** argv) {
                "then render the fitted volume on another mesh:\n"
                "  jaderender render --volume out/onyx002/volume.vdb --mesh data/meshes/spot-cow.obj "
                "--out cow.exr");
+}
+
+int run_command(int argc, char** argv) {
+    CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
+                 "materials (jade, marble) from one photograph"};
+    describe_app(app);
     app.require_subcommand(0, 1);
     // No fallthrough: a top-level (fitting) flag given after a subcommand is
     // an error, not silently taken by the pipeline that does not run.

@@ -16,7 +16,6 @@
 
 namespace jade {
 
-
 namespace {
 
 // The job's medium, and what it references, owned in one place.
@@ -110,7 +109,10 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
                           ? sibling_path(job.out, ".convergence.csv")  // one per render: several can share a folder
                           : job.convergence;
     const std::string out = piece ? piece_path(job.out, *piece, job.width, job.height) : job.out;
-    if (piece) png.clear(), csv.clear();
+    if (piece) {
+        png.clear();
+        csv.clear();
+    }
     for (const std::string& path : {out, png, csv})
         if (!path.empty()) require_output_folder(path);
     RenderJobResult result;
