@@ -129,6 +129,10 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);
     write_text_file(out("fit.csv"), fit_csv(res.fit.records));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);
+    const RgbImage8 conv = convergence_plot(res.final_render.passes);
+    write_image_u8(out("convergence.png"), conv.width, conv.height, 3, conv.pixels);
+    const RgbImage8 fitp = fit_plot(res.fit.records, res.fit.limits.tolerance);
+    write_image_u8(out("fit.png"), fitp.width, fitp.height, 3, fitp.pixels);
     const DisplayStatistics final_stats = display_statistics(res.final_render.film, exposure);
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
     res.final_look = compare_appearance(photo_histogram, photo_spectrum(photo), final_stats,
@@ -144,7 +148,8 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
                                          final_stats.histogram, render_caption,
                                          "slice z = " + std::to_string(volume.resolution / 2)});
     write_image_u8(out("compare.png"), cmp.width, cmp.height, 3, cmp.pixels);
-    for (const char* name : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "compare.png"})
+    for (const char* name : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "convergence.png",
+                             "fit.png", "compare.png"})
         res.written.push_back(out(name));
     const RenderJob replay = replay_job(o, prep, res.out_dir, exposure);
     res.seconds_write = clock.seconds();

@@ -45,6 +45,59 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     return s;
 }
 
+RgbImage8 convergence_plot(const std::vector<PassRecord>& passes) {
+    PlotSpec spec;
+    spec.title = "final render: estimated relative error against time";
+    spec.x_label = "seconds";
+    spec.y_label = "error";
+    spec.log_x = spec.log_y = true;
+    PlotSeries est{{}, {}, Rgb8{255, 190, 70}, false, "estimated relative error"};
+    PlotSeries rmse{{}, {}, Rgb8{90, 200, 255}, false, "RMSE vs reference"};
+    for (const PassRecord& p : passes) {
+        est.x.push_back(p.seconds);
+        est.y.push_back(p.estimated_error);
+        if (p.rmse >= 0) {
+            rmse.x.push_back(p.seconds);
+            rmse.y.push_back(p.rmse);
+        }
+    }
+    // 1/sqrt(t) through the last pass with a finite error.
+    PlotSeries ideal{{}, {}, Rgb8{170, 170, 170}, true, "1/sqrt(t), through the last"};
+    for (auto it = passes.rbegin(); it != passes.rend(); ++it)
+        if (std::isfinite(it->estimated_error) && it->seconds > 0) {
+            for (const PassRecord& p : passes)
+                if (p.seconds > 0) {
+                    ideal.x.push_back(p.seconds);
+                    ideal.y.push_back(it->estimated_error * std::sqrt(it->seconds / p.seconds));
+                }
+            break;
+        }
+    spec.series = {ideal, est};
+    if (!rmse.x.empty()) spec.series.push_back(rmse);
+    return line_plot(spec);
+}
+
+RgbImage8 fit_plot(const std::vector<FitRecord>& rows, double tolerance) {
+    PlotSpec spec;
+    spec.title = "fit: dA = A(render) - A(photo) per fitting render";
+    spec.x_label = "fitting render";
+    spec.y_label = "dA (levels)";
+    spec.y_rules = {-tolerance, tolerance};
+    const Rgb8 colours[3] = {Rgb8{255, 70, 70}, Rgb8{70, 230, 70}, Rgb8{90, 130, 255}};
+    const char* names[3] = {"red", "green", "blue"};
+    for (int c = 0; c < 3; ++c) {
+        PlotSeries s{{}, {}, colours[c], false, names[c]};
+        int n = 0;
+        for (const FitRecord& r : rows) {
+            if (r.shading) continue;
+            s.x.push_back(++n);
+            s.y.push_back(r.delta[c]);
+        }
+        spec.series.push_back(s);
+    }
+    return line_plot(spec);
+}
+
 namespace {
 
 // The structure distance (texture_spectrum.h) of the volume's slices to the

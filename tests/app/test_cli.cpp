@@ -518,7 +518,7 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv",
-                          "compare.png", "report.json"})
+                          "convergence.png", "fit.png", "compare.png", "report.json"})
         CHECK(std::filesystem::exists(dir.file(std::string("o/") + f)));
     // The default fit (contrast) under a cap of 6: header + the two renders at
     // the k_s bounds + none of the k_s search (it leaves 4 to the contrast) +
@@ -527,7 +527,8 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     CHECK(fit_rows.size() == 7);
     // report.json, written last, is the manifest: every other output with its size.
     const std::string manifest = slurp(dir.file("o/report.json"));
-    for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "compare.png"}) {
+    for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "convergence.png",
+                          "fit.png", "compare.png"}) {
         INFO(f);
         const std::string size = json_field(manifest, f);
         REQUIRE_FALSE(size.empty());

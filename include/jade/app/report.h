@@ -5,6 +5,7 @@
 
 #include "jade/app/pipeline.h"
 #include "jade/fit/display.h"
+#include "jade/fit/plot.h"
 
 #include <string>
 #include <vector>
@@ -16,6 +17,16 @@ std::string channel_status(const FitOutcome& fit, int channel);
 
 // iteration,seconds,spp, then ks, A_photo, A_render, A_sigma, dA and D per channel.
 std::string fit_csv(const std::vector<FitRecord>& rows);
+
+// convergence.png: the render's estimated relative error (and RMSE against a
+// reference, when there is one) against seconds, log–log, with the 1/√t line
+// through the last pass: where the error falls more slowly than 1/√t, the
+// points rise above it.
+RgbImage8 convergence_plot(const std::vector<PassRecord>& passes);
+
+// fit.png: ΔA per channel for each fitting render (shading renders left
+// out), with the tolerance ±`tolerance` as rules.
+RgbImage8 fit_plot(const std::vector<FitRecord>& rows, double tolerance);
 
 struct PipelineReport {
     const PipelineOptions& options;
