@@ -271,6 +271,9 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--light-irradiance", j.light_irradiance,
                    "Its irradiance on a surface facing it (0 = off)")
         ->capture_default_str();
+    cmd.add_option("--light-file", j.light_file,
+                   "Use the first directional light (KHR_lights_punctual) of this .gltf/.glb (e.g. the mesh "
+                   "file) for the light's direction and irradiance (its intensity in lux)");
     cmd.add_option("--light-radius", j.light_radius_degrees,
                    "Its angular radius, degrees (0 = a delta light: inside a dielectric object it "
                    "is found only through one refraction, see --light-nee)")
@@ -332,6 +335,8 @@ void resolve_flags(RenderFlags& f) {
     }
     if (f.up.given()) j.camera_up = f.up.value("--camera-up");
     if (f.light_dir.given()) j.light_direction = f.light_dir.value("--light-dir");
+    if (f.light_dir.given() && !j.light_file.empty())
+        throw jade::Error("--light-file sets the light's direction: it cannot be combined with --light-dir");
 }
 
 // The piece a render's --samples and --pixels ask for, if any.

@@ -99,6 +99,7 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
         {"camera", camera},
         {"lights", {{"direction", vec(job.light_direction)}, {"irradiance", job.light_irradiance},
                     {"radius_degrees", job.light_radius_degrees},
+                    {"file", stored_path(job.light_file, base_dir)},
                     {"environment", is_colour(job.environment) ? job.environment
                                                                : stored_path(job.environment, base_dir)},
                     {"environment_scale", job.environment_scale},
@@ -164,6 +165,7 @@ void read_camera_lights_settings(const json& j, RenderJob& job, const std::strin
     read_vec(lights, "direction", job.light_direction, file, "lights");
     read(lights, "irradiance", job.light_irradiance, file, "lights");
     read(lights, "radius_degrees", job.light_radius_degrees, file, "lights");
+    read(lights, "file", job.light_file, file, "lights");
     read(lights, "environment", job.environment, file, "lights");
     read(lights, "environment_scale", job.environment_scale, file, "lights");
     read(lights, "background", job.background, file, "lights");
@@ -196,7 +198,7 @@ RenderJob parse_job(const std::string& text, const std::string& origin, const st
     read_scene_and_medium(j, job, origin);
     read_camera_lights_settings(j, job, origin);
     const fs::path base(base_dir);
-    for (std::string* p : {&job.mesh, &job.volume, &job.camera_file, &job.background, &job.out,
+    for (std::string* p : {&job.mesh, &job.volume, &job.camera_file, &job.light_file, &job.background, &job.out,
                            &job.png, &job.convergence, &job.reference})
         *p = resolved_path(*p, base);
     if (!is_colour(job.environment)) job.environment = resolved_path(job.environment, base);

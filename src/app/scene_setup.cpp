@@ -76,7 +76,17 @@ std::unique_ptr<PreparedScene> prepare_scene(const RenderJob& job) {
     scene.boundary = prep->accel.get();
     scene.interface = job.interface;
     scene.phase = PhaseFunction(job.g);
-    scene.light = DirectionalLight(job.light_direction, job.light_irradiance, job.light_radius_degrees);
+    glm::vec3 toward = job.light_direction;
+    float irradiance = job.light_irradiance;
+    if (!job.light_file.empty()) {
+        const FileLight light = load_gltf_directional_light(job.light_file);
+        toward = light.toward;
+        irradiance = light.irradiance;
+        if (light.coloured)
+            prep->warnings.push_back(job.light_file + ": the light '" + light.name + "' is coloured; jaderender's "
+                                     "light is white, so the colour's mean scales its intensity");
+    }
+    scene.light = DirectionalLight(toward, irradiance, job.light_radius_degrees);
     Spectrum env;
     if (parse_vec3(job.environment, env)) {
         scene.environment = Environment(env * job.environment_scale);

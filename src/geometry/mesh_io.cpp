@@ -312,4 +312,44 @@ FileCamera load_gltf_camera(const std::string& path) {
     return *found;
 }
 
+namespace {
+
+// The KHR_lights_punctual light a node carries, -1 for none.
+int node_light(const tinygltf::Node& node) {
+    const auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end() || !ext->second.IsObject() || !ext->second.Has("light")) return -1;
+    const tinygltf::Value& index = ext->second.Get("light");
+    return index.IsNumber() ? index.GetNumberAsInt() : -1;
+}
+
+}  // namespace
+
+FileLight load_gltf_directional_light(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext != ".gltf" && ext != ".glb") fail_file(path, "a light can be read from .gltf or .glb only");
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
+    const tinygltf::Model model = read_gltf_model(path);
+    std::optional<FileLight> found;
+    for_each_scene_node(model, [&](const tinygltf::Node& node, const glm::mat4& world) {
+        const int index = node_light(node);
+        if (found || index < 0 || std::size_t(index) >= model.lights.size()) return;
+        const tinygltf::Light& light = model.lights[std::size_t(index)];
+        if (light.type != "directional") return;
+        FileLight f;
+        f.name = light.name;
+        const glm::vec3 z(world * glm::vec4(0.f, 0.f, 1.f, 0.f));
+        f.toward = glm::length(z) > 0.f ? glm::normalize(z) : glm::vec3(0.f);
+        std::array<double, 3> colour{1, 1, 1};
+        if (light.color.size() == 3) colour = {light.color[0], light.color[1], light.color[2]};
+        f.irradiance = float(light.intensity * (colour[0] + colour[1] + colour[2]) / 3.0);
+        f.coloured = colour[0] != colour[1] || colour[1] != colour[2];
+        found = f;
+    });
+    if (!found) fail_file(path, "holds no directional light (KHR_lights_punctual)");
+    if (!(glm::length(found->toward) > 0.f) || !std::isfinite(found->irradiance) || found->irradiance < 0.f)
+        fail_file(path, "its directional light has no direction or a negative or non-finite intensity");
+    return *found;
+}
+
 }  // namespace jade

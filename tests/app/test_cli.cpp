@@ -750,3 +750,24 @@ TEST_CASE("volume --z-up: the file says so and renders as the Y-up one", "[cli][
     REQUIRE(a.pixels.size() == b.pixels.size());
     CHECK(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0);
 }
+
+TEST_CASE("render --light-file: a glTF's directional light renders as the same light given by flags", "[cli][render]") {
+    TempDir dir;
+    std::ofstream(dir.file("sun.gltf")) << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 2.5}]}},
+  "nodes": [{"rotation": [-0.70710678, 0, 0, 0.70710678], "extensions": {"KHR_lights_punctual": {"light": 0}}}]})";
+    const std::string scene = "render --mesh " + kBlob + " --sigma-s 3 --sigma-a 0.5 --width 16 --height 16 --spp 4 "
+                              "--png '' --convergence '' ";
+    const Result a = run(dir, scene + "--light-file " + dir.file("sun.gltf") + " --out " + dir.file("a.exr"));
+    INFO(a.err);
+    REQUIRE(a.code == 0);
+    REQUIRE(run(dir, scene + "--light-dir 0,1,0 --light-irradiance 2.5 --out " + dir.file("b.exr")).code == 0);
+    const ImageF32 x = read_image_f32(dir.file("a.exr")), y = read_image_f32(dir.file("b.exr"));
+    REQUIRE(x.pixels.size() == y.pixels.size());
+    CHECK(std::memcmp(x.pixels.data(), y.pixels.data(), x.pixels.size() * sizeof(float)) == 0);
+    const Result both = run(dir, scene + "--light-file " + dir.file("sun.gltf") + " --light-dir 1,0,0 --out " +
+                                     dir.file("c.exr"));
+    CHECK(both.code == 2);
+    CHECK_THAT(both.err, Catch::Contains("cannot be combined with --light-dir"));
+}

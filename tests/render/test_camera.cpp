@@ -100,3 +100,33 @@ TEST_CASE("a glTF file's camera: node transform, -z view, vertical fov made hori
     CHECK_THROWS_WITH(load_gltf_camera(JADE_DATA_DIR "/meshes/greek-vase-01.glb"),
                       Catch::Contains("no perspective camera"));
 }
+
+TEST_CASE("a glTF file's directional light (KHR_lights_punctual): node transform, +z toward it, intensity",
+          "[camera]") {
+    jade_test::TempDir dir;
+    const std::string path = dir.file("sun.gltf");
+    {
+        // A point light first (skipped), then a directional light on a node
+        // turned -90 degrees about +x (quaternion (-sin 45°, 0, 0, cos 45°)):
+        // it shines along -y, so the light is toward +y.
+        std::ofstream out(path);
+        out << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+      {"type": "point", "intensity": 100},
+      {"type": "directional", "name": "Sun", "intensity": 4, "color": [1, 0.5, 0.75]}]}},
+  "nodes": [{"extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"rotation": [-0.70710678, 0, 0, 0.70710678], "extensions": {"KHR_lights_punctual": {"light": 1}}}]})";
+    }
+    const FileLight light = load_gltf_directional_light(path);
+    CHECK(light.name == "Sun");
+    CHECK(light.toward.x == Approx(0.f).margin(1e-6));
+    CHECK(light.toward.y == Approx(1.f).margin(1e-6));
+    CHECK(light.toward.z == Approx(0.f).margin(1e-6));
+    CHECK(light.irradiance == Approx(4.f * 0.75f));  // intensity × the colour's mean
+    CHECK(light.coloured);
+    CHECK_THROWS_WITH(load_gltf_directional_light(JADE_DATA_DIR "/meshes/greek-vase-01.glb"),
+                      Catch::Contains("holds no directional light"));
+    CHECK_THROWS_WITH(load_gltf_directional_light(JADE_DATA_DIR "/meshes/spot-cow.obj"),
+                      Catch::Contains(".gltf or .glb only"));
+}

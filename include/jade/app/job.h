@@ -44,6 +44,9 @@ struct RenderJob {
     glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
     float light_irradiance = 3.f;
     float light_radius_degrees = 20.f;
+    // A .gltf/.glb whose first directional light (KHR_lights_punctual) sets
+    // the direction and irradiance instead of the two above.
+    std::string light_file;
     std::string environment = "0.01";          // "v", "r,g,b", or a lat-long image: a dim fill (README: "Defaults")
     float environment_scale = 1.f;
     std::string background;                    // image behind the object

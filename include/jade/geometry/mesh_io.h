@@ -44,4 +44,19 @@ struct FileCamera {
 // perspective camera.
 FileCamera load_gltf_camera(const std::string& path);
 
+// The first directional light of a glTF scene (KHR_lights_punctual,
+// depth-first over the default scene's nodes), in world space: it shines
+// along its node's −z, so `toward` (the direction to the light) is its +z.
+// `irradiance` is its intensity (lux) times the mean of its colour;
+// `coloured` says the colour was not grey (the renderer's light is white).
+struct FileLight {
+    glm::vec3 toward{0.f, 0.f, 1.f};
+    float irradiance = 1.f;
+    bool coloured = false;
+    std::string name;
+};
+// Throws jade::Error naming the file when it cannot be read or holds no
+// directional light.
+FileLight load_gltf_directional_light(const std::string& path);
+
 }  // namespace jade
