@@ -41,7 +41,7 @@ struct Vec3Flag {
 };
 
 struct VolumeOptions {
-    std::string photo, mask, out, preview;
+    std::string photo, mask, out, preview, color_name = "color";
     bool z_up = false;
     jade::NoiseParams noise;
     std::string structure = "photo";
@@ -132,7 +132,7 @@ int run_volume(VolumeOptions& o) {
     const double volume_s = t_volume.seconds();
 
     const jade::Stopwatch t_write;
-    jade::write_material_vdb(o.out, volume, jade::VdbLayout{nullptr, o.z_up});
+    jade::write_material_vdb(o.out, volume, jade::VdbLayout{nullptr, o.z_up, o.color_name});
     const double write_s = t_write.seconds();
 
     if (structure == jade::StructureMode::Photo)
@@ -491,6 +491,10 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_flag("--allow-open", p.scene.job.allow_open, "Use a mesh with many open edges anyway");
     app.add_flag("--z-up", p.options.vdb_z_up,
                  "Write volume.vdb's grids Z-up (Blender) rather than Y-up (glTF, Houdini); jaderender reads both");
+    app.add_option("--vdb-color", p.options.vdb_color_name,
+                   "Name of volume.vdb's albedo grid: 'color' (Blender) or 'Cd' (Houdini)")
+        ->check(CLI::IsMember({"color", "Cd"}))
+        ->capture_default_str();
     group_from(app, first, "Object and output");
     add_scene_flags(app, p.scene, "--render-seed");
     jade::PipelineOptions& o = p.options;
@@ -746,6 +750,9 @@ int run_command(int argc, char** argv) {
     volume_cmd->add_option("--contrast", vol.contrast.text,
                            "Contrast of the levels about their mean, r,g,b (0..16; default 1, the paper's)");
     volume_cmd->add_flag("--z-up", vol.z_up, "Write the grids Z-up (Blender) rather than Y-up (glTF, Houdini)");
+    volume_cmd->add_option("--vdb-color", vol.color_name, "Name of the albedo grid: 'color' (Blender) or 'Cd' (Houdini)")
+        ->check(CLI::IsMember({"color", "Cd"}))
+        ->capture_default_str();
     volume_cmd->add_option("--preview", vol.preview,
                            "Also write the middle slice of the matched noise as an image");
 

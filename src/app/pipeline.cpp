@@ -125,7 +125,7 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     const float exposure = res.fit.exposure;
     // The coefficient grids only inside the mesh (other tools see the stone,
     // not a block of fog); the levels cover the cube for any other mesh.
-    write_material_vdb(out("volume.vdb"), volume, VdbLayout{&prep.mesh, o.vdb_z_up});
+    write_material_vdb(out("volume.vdb"), volume, VdbLayout{&prep.mesh, o.vdb_z_up, o.vdb_color_name});
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);
     write_text_file(out("fit.csv"), fit_csv(res.fit.records));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);

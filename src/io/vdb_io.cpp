@@ -108,7 +108,8 @@ std::vector<openvdb::Coord> masked_origins(const std::vector<openvdb::Coord>& or
 
 // The four coefficient grids of a material volume (docs/design.md, "The .vdb
 // file"), filled from its levels; only the voxels of `mask` when one is given.
-openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v, const openvdb::BoolGrid* mask, bool z_up) {
+openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v, const openvdb::BoolGrid* mask, bool z_up,
+                                      const std::string& color_name) {
     const int s = v.resolution;
     const auto xform = cube_transform(v, z_up);
     const auto origins = masked_origins(leaf_origins(s), mask);
@@ -120,7 +121,7 @@ openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v, const openvdb::Bo
                                                  "absorption coefficient, RGB", xform, origins, la);
     auto density = make_grid<openvdb::FloatGrid>(
         "density", "1/world unit", "extinction sigma_s + sigma_a, mean of RGB", xform, origins, ld);
-    auto color = make_grid<openvdb::Vec3fGrid>("color", "none", "single-scattering albedo sigma_s / sigma_t, RGB",
+    auto color = make_grid<openvdb::Vec3fGrid>(color_name, "none", "single-scattering albedo sigma_s / sigma_t, RGB",
                                                xform, origins, lc);
 
     const CoefficientTable table(v.optics, v.cube.side);
@@ -301,7 +302,9 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v, const 
     if (s <= 0 || v.levels.size() != std::size_t(s) * s * s)
         throw Error("internal: material volume levels do not match its resolution");
     const openvdb::BoolGrid::Ptr mask = layout.mask ? interior_mask(v, *layout.mask) : nullptr;
-    openvdb::GridPtrVec grids = coefficient_grids(v, mask.get(), layout.z_up);
+    if (layout.color_name != "color" && layout.color_name != "Cd")
+        throw Error("the albedo grid is named 'color' (Blender) or 'Cd' (Houdini), not '" + layout.color_name + "'");
+    openvdb::GridPtrVec grids = coefficient_grids(v, mask.get(), layout.z_up, layout.color_name);
     // The levels go last: a file cut short then loses part of them, which
     // their digest reveals, instead of the end of a grid no reader here checks.
     grids.push_back(levels_grid(v, layout.z_up));
@@ -793,6 +796,7 @@ CoefficientGrids read_medium_vdb(const std::string& path, const DensityConversio
         const std::vector<std::string> names =
             coefficients ? std::vector<std::string>{"sigma_s", "sigma_a"}
             : file.hasGrid("color") ? std::vector<std::string>{"density", "color"}
+            : file.hasGrid("Cd")    ? std::vector<std::string>{"density", "Cd"}  // Houdini's name
                                     : std::vector<std::string>{"density"};
         if (!file.hasGrid(names[0]))
             fail_file(path, "has neither 'sigma_s' + 'sigma_a' grids nor a 'density' grid");

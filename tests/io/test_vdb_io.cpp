@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <set>
 #include <cmath>
 #include <openvdb/openvdb.h>
 
@@ -359,6 +360,13 @@ TEST_CASE("foreign density + color grids become coefficients in world space", "[
     CHECK(a.x == Approx(20.f));
     CHECK(a.z == Approx(40.f));
 
+    // Houdini names the albedo `Cd`: the same medium.
+    color->setName("Cd");
+    write_grids(dir.file("cd.vdb"), {density, color});
+    const CoefficientGrids h = read_medium_vdb(dir.file("cd.vdb"), conv);
+    CHECK(h.sigma_s[(0 * 2 + 1) * 3 + 2].y == Approx(40.f));
+    CHECK(h.sigma_a[(0 * 2 + 1) * 3 + 2].z == Approx(40.f));
+
     // Without a color grid the albedo comes from the conversion.
     write_grids(dir.file("d2.vdb"), {density});
     conv.albedo = Spectrum(0.25f);
@@ -407,9 +415,11 @@ TEST_CASE("masked to a mesh and turned Z-up: the coefficient grids cover the int
     // A sphere inscribed in the cube (centre (0.5, 2, 3.5), radius 1.5).
     TriangleMesh sphere = icosphere(4, 1.5f);
     for (glm::vec3& p : sphere.positions) p += glm::vec3(0.5f, 2.f, 3.5f);
-    write_material_vdb(dir.file("m.vdb"), v, VdbLayout{&sphere, true});
+    write_material_vdb(dir.file("m.vdb"), v, VdbLayout{&sphere, true, "Cd"});
     // jaderender reads the same material, whole.
     require_same(v, read_material_vdb(dir.file("m.vdb")));
+    CHECK_THROWS_WITH(write_material_vdb(dir.file("x.vdb"), v, VdbLayout{nullptr, false, "albedo"}),
+                      Catch::Contains("'color' (Blender) or 'Cd' (Houdini)"));
 
     openvdb::io::File file(dir.file("m.vdb"));
     file.open();
@@ -417,6 +427,9 @@ TEST_CASE("masked to a mesh and turned Z-up: the coefficient grids cover the int
     auto meta = file.getMetadata();
     file.close();
     CHECK(meta->metaValue<std::string>("jade:up_axis") == "z");
+    std::set<std::string> names;
+    for (auto& g : *grids) names.insert(g->getName());
+    CHECK(names == std::set<std::string>{"Cd", "density", "levels", "sigma_a", "sigma_s"});
     const double h = 3.0 / 32;
     for (auto& g : *grids) {
         INFO(g->getName());

@@ -37,6 +37,7 @@ struct PipelineOptions {
     // The .vdb's coefficient grids turned Z-up (Blender) instead of Y-up
     // (glTF, Houdini); they are always masked to the mesh (io/vdb_io.h).
     bool vdb_z_up = false;
+    std::string vdb_color_name = "color";  // or "Cd" for Houdini
 };
 
 struct PipelineResult {

@@ -37,6 +37,7 @@ struct VdbLayout {
     // cover the cube.
     const TriangleMesh* mask = nullptr;
     bool z_up = false;  // the grids' world turned Y-up → Z-up
+    std::string color_name = "color";  // the albedo grid's name: "color" (Blender) or "Cd" (Houdini)
 };
 
 // Writes the grids and the metadata, whole or not at all.
@@ -63,7 +64,7 @@ bool is_material_vdb(const std::string& path);
 // How a foreign .vdb's `density` grid becomes coefficients (the convention of
 // Mitsuba's and Blender's volumes): σ_t = scale · density, σ_s = albedo · σ_t,
 // σ_a = (1 − albedo) · σ_t, with the albedo from a Vec3f/float `color` grid
-// when the file has one, else `albedo`.
+// (or Houdini's `Cd`) when the file has one, else `albedo`.
 struct DensityConversion {
     float scale = 1.f;
     Spectrum albedo{0.9f};
