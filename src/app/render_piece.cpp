@@ -278,19 +278,20 @@ bool overlap(const PieceRange& a, const PieceRange& b) {
            b.pixels.x0 < a.pixels.x1 && a.pixels.y0 < b.pixels.y1 && b.pixels.y0 < a.pixels.y1;
 }
 
-void check_same_render(const std::vector<RenderPiece>& pieces) {
-    const json first = job_identity(pieces[0].job);
-    for (std::size_t k = 1; k < pieces.size(); ++k) {
-        const json patch = json::diff(first, job_identity(pieces[k].job));
+// Refuses piece `k` when its job is not the first piece's, or its range
+// overlaps an earlier piece's. Checked as each piece is read, so that only
+// the merged film and one piece are ever in memory (a 4K film is 1 GB).
+void check_same_render(const std::vector<RenderPiece>& seen, const RenderPiece& piece, const json& first_job) {
+    if (!seen.empty()) {
+        const json patch = json::diff(first_job, job_identity(piece.job));
         if (!patch.empty())
-            throw Error(pieces[0].file + " and " + pieces[k].file + " are pieces of different renders (their jobs' " +
+            throw Error(seen[0].file + " and " + piece.file + " are pieces of different renders (their jobs' " +
                         patch[0].value("path", std::string("?")) + " differ)");
     }
-    for (std::size_t a = 0; a < pieces.size(); ++a)
-        for (std::size_t b = a + 1; b < pieces.size(); ++b)
-            if (overlap(pieces[a].range, pieces[b].range))
-                throw Error(pieces[a].file + " (" + range_text(pieces[a].range) + ") and " + pieces[b].file + " (" +
-                            range_text(pieces[b].range) + ") overlap: merge each sample once");
+    for (const RenderPiece& other : seen)
+        if (overlap(other.range, piece.range))
+            throw Error(other.file + " (" + range_text(other.range) + ") and " + piece.file + " (" +
+                        range_text(piece.range) + ") overlap: merge each sample once");
 }
 
 // After the merge every pixel must hold samples 0:spp; names the first gap.
@@ -326,23 +327,29 @@ MergeResult merge_render_pieces(const std::vector<std::string>& files, const std
                                 const std::string& png_arg) {
     if (files.empty()) throw Error("merge: give the pieces to merge");
     MergeResult result;
-    const Stopwatch read_clock;
-    std::vector<RenderPiece> pieces;
-    for (const std::string& f : files) pieces.push_back(read_render_piece(f));
-    result.read_seconds = read_clock.seconds();
-    check_same_render(pieces);
-
-    const Stopwatch merge_clock;
-    result.job = pieces[0].job;
-    result.exposure = pieces[0].exposure;
-    result.pieces = int(pieces.size());
-    result.film = Film(result.job.width, result.job.height);
-    for (const RenderPiece& p : pieces) {
-        result.film.merge(p.film);
-        result.piece_seconds += p.seconds;
+    // The pieces seen so far, without their films (only their ranges and jobs).
+    std::vector<RenderPiece> seen;
+    json first_job;
+    for (const std::string& f : files) {
+        const Stopwatch read_clock;
+        RenderPiece piece = read_render_piece(f);
+        result.read_seconds += read_clock.seconds();
+        const Stopwatch merge_clock;
+        if (seen.empty()) {
+            first_job = job_identity(piece.job);
+            result.job = piece.job;
+            result.exposure = piece.exposure;
+            result.film = Film(piece.job.width, piece.job.height);
+        }
+        check_same_render(seen, piece, first_job);
+        result.film.merge(piece.film);
+        result.piece_seconds += piece.seconds;
+        piece.film = Film();
+        seen.push_back(std::move(piece));
+        result.merge_seconds += merge_clock.seconds();
     }
-    check_complete(pieces, result.film, result.job.settings.spp);
-    result.merge_seconds = merge_clock.seconds();
+    result.pieces = int(seen.size());
+    check_complete(seen, result.film, result.job.settings.spp);
 
     const std::string out = out_arg.empty() ? result.job.out : out_arg;
     std::string png = png_arg == "auto" ? sibling_path(out, ".png") : png_arg;

@@ -85,6 +85,8 @@ struct MergeResult {
 // output when empty) and its PNG. Refuses pieces of different jobs,
 // overlapping ranges and missing ones, each with one line naming the files or
 // the range. The pieces are only read: merging again gives the same bits.
+// They are read one at a time, so memory holds the merged film and one
+// piece whatever their number (a 4K film is about 1 GB).
 MergeResult merge_render_pieces(const std::vector<std::string>& pieces, const std::string& out,
                                 const std::string& png = "auto");
 
