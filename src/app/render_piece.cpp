@@ -1,6 +1,7 @@
 #include "jade/app/render_piece.h"
 
 #include "jade/core/error.h"
+#include "jade/core/memory.h"
 #include "jade/core/timing.h"
 #include "jade/io/atomic_file.h"
 #include "jade/io/exr_parts.h"
@@ -183,6 +184,12 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r) 
     const PixelBounds& b = r.pixels;
     if (p.x0 != b.x0 || p.y0 != b.y0 || p.width != b.x1 - b.x0 || p.height != b.y1 - b.y0)
         fail_file(path, "the piece's pixels disagree with its range");
+    // The film the piece asks for must fit before anything is allocated for it.
+    try {
+        require_memory(2 * Film::memory_bytes(p.full_width, p.full_height), "its film");
+    } catch (const Error& e) {
+        fail_file(path, e.what());
+    }
     Film::Sums s;
     s.width = p.full_width;
     s.height = p.full_height;

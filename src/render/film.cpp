@@ -35,7 +35,7 @@ constexpr std::uint64_t kFilmBytesPerPixel = 2 * 3 * sizeof(__int128) + 2 * size
 
 int checked_size(int width, int height) {
     if (width < 0 || height < 0) throw Error("internal: a film's size is negative");
-    require_memory(kFilmBytesPerPixel * std::uint64_t(width) * std::uint64_t(height),
+    require_memory(Film::memory_bytes(width, height),
                    "a " + std::to_string(width) + " x " + std::to_string(height) + " render (--width, --height)");
     return width;
 }
@@ -58,6 +58,10 @@ Film Film::from_sums(Sums s) {
     film.count_ = std::move(s.count);
     film.hits_ = std::move(s.hits);
     return film;
+}
+
+std::uint64_t Film::memory_bytes(int width, int height) {
+    return kFilmBytesPerPixel * std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0));
 }
 
 int Film::spp() const {

@@ -16,7 +16,11 @@ namespace jade {
 class Film {
 public:
     Film() : Film(0, 0) {}
+    // Throws jade::Error (naming --width, --height) when a film of this size
+    // would not fit in the memory available (core/memory.h).
     Film(int width, int height);
+    // The memory a film of this size takes, with the image written from it.
+    static std::uint64_t memory_bytes(int width, int height);
     int width() const { return width_; }
     int height() const { return height_; }
     // The most samples any pixel holds (a uniform render's samples per pixel).
