@@ -20,13 +20,7 @@ const Rgb8 kText{225, 225, 225};
 const Rgb8 kSolid[3] = {Rgb8{255, 70, 70}, Rgb8{70, 230, 70}, Rgb8{90, 130, 255}};
 const char* const kChannelName[3] = {"R", "G", "B"};
 
-void put(RgbImage8& img, int x, int y, const Rgb8& c) {
-    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-    std::uint8_t* p = &img.pixels[(std::size_t(y) * img.width + x) * 3];
-    p[0] = c[0];
-    p[1] = c[1];
-    p[2] = c[2];
-}
+void put(RgbImage8& img, int x, int y, const Rgb8& c) { img.put(x, y, c); }
 
 // A vertical run between two heights, so consecutive histogram bins join.
 void column(RgbImage8& img, int x, int y0, int y1, const Rgb8& c) {

@@ -17,13 +17,7 @@ const Rgb8 kBackground{40, 40, 40};
 const Rgb8 kInk{225, 225, 225};
 const Rgb8 kGrid{75, 75, 75};
 
-void put(RgbImage8& img, int x, int y, const Rgb8& c) {
-    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-    std::uint8_t* p = &img.pixels[(std::size_t(y) * img.width + x) * 3];
-    p[0] = c[0];
-    p[1] = c[1];
-    p[2] = c[2];
-}
+void put(RgbImage8& img, int x, int y, const Rgb8& c) { img.put(x, y, c); }
 
 // A line two pixels wide from (x0, y0) to (x1, y1); dashed: 6 on, 4 off,
 // counted along the line from `phase`. Returns the phase at its end.

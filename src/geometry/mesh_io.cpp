@@ -288,12 +288,22 @@ void validate_mesh(const TriangleMesh& mesh) {
                                  "(single precision cannot resolve it there)");
 }
 
-FileCamera load_gltf_camera(const std::string& path) {
+namespace {
+
+// The glTF scene a camera or a light is read from (`what` names it in the
+// message when the file is not glTF).
+tinygltf::Model read_gltf_scene_for(const std::string& path, const char* what) {
     const std::string ext = lower_extension(path);
-    if (ext != ".gltf" && ext != ".glb") fail_file(path, "a camera can be read from .gltf or .glb only");
+    if (ext != ".gltf" && ext != ".glb") fail_file(path, std::string(what) + " can be read from .gltf or .glb only");
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
-    const tinygltf::Model model = read_gltf_model(path);
+    return read_gltf_model(path);
+}
+
+}  // namespace
+
+FileCamera load_gltf_camera(const std::string& path) {
+    const tinygltf::Model model = read_gltf_scene_for(path, "a camera");
     std::optional<FileCamera> found;
     for_each_scene_node(model, [&](const tinygltf::Node& node, const glm::mat4& world) {
         if (found) return;
@@ -325,11 +335,7 @@ int node_light(const tinygltf::Node& node) {
 }  // namespace
 
 FileLight load_gltf_directional_light(const std::string& path) {
-    const std::string ext = lower_extension(path);
-    if (ext != ".gltf" && ext != ".glb") fail_file(path, "a light can be read from .gltf or .glb only");
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
-    const tinygltf::Model model = read_gltf_model(path);
+    const tinygltf::Model model = read_gltf_scene_for(path, "a light");
     std::optional<FileLight> found;
     for_each_scene_node(model, [&](const tinygltf::Node& node, const glm::mat4& world) {
         const int index = node_light(node);

@@ -43,6 +43,17 @@ MaterialVolume sample_volume(int s, OpticalParams optics, NoiseParams n = {}) {
     return v;
 }
 
+// Every grid and the file's metadata, as plain OpenVDB reads them.
+std::pair<openvdb::GridPtrVecPtr, openvdb::MetaMap::Ptr> read_all(const std::string& path) {
+    openvdb::initialize();
+    openvdb::io::File f(path);
+    f.open();
+    auto grids = f.getGrids();
+    auto meta = f.getMetadata();
+    f.close();
+    return {grids, meta};
+}
+
 void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     REQUIRE(a.resolution == b.resolution);
     CHECK(a.levels == b.levels);
@@ -291,11 +302,7 @@ TEST_CASE("reading a file that is not a jaderender volume is one clear error", "
     // Grids edited after writing no longer follow from the metadata.
     const MaterialVolume v = sample_volume(8, OpticalParams{});
     write_material_vdb(dir.file("v.vdb"), v);
-    openvdb::io::File f(dir.file("v.vdb"));
-    f.open();
-    auto grids = f.getGrids();
-    auto meta = f.getMetadata();
-    f.close();
+    auto [grids, meta] = read_all(dir.file("v.vdb"));
     for (auto& base : *grids)
         if (base->getName() == "sigma_s")
             openvdb::gridPtrCast<openvdb::Vec3fGrid>(base)->tree().setValue(
@@ -462,11 +469,7 @@ TEST_CASE("a format 1 file (no levels grid) still reads: levels recovered from t
     TempDir dir;
     const MaterialVolume v = sample_volume(16, OpticalParams{});
     write_material_vdb(dir.file("v.vdb"), v);
-    openvdb::io::File f(dir.file("v.vdb"));
-    f.open();
-    auto grids = f.getGrids();
-    auto meta = f.getMetadata();
-    f.close();
+    auto [grids, meta] = read_all(dir.file("v.vdb"));
     grids->erase(std::remove_if(grids->begin(), grids->end(), [](const auto& g) { return g->getName() == "levels"; }),
                  grids->end());
     meta->removeMeta("jade:format_version");

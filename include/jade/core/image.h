@@ -30,6 +30,14 @@ struct ImageF32 {
 struct RgbImage8 {
     int width = 0, height = 0;
     std::vector<std::uint8_t> pixels;
+    // Sets pixel (x, y); nothing outside the image (drawing may run over its edges).
+    void put(int x, int y, const Rgb8& c) {
+        if (x < 0 || y < 0 || x >= width || y >= height) return;
+        std::uint8_t* p = &pixels[(std::size_t(y) * width + x) * 3];
+        p[0] = c[0];
+        p[1] = c[1];
+        p[2] = c[2];
+    }
 };
 
 }  // namespace jade
