@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages jaderender needs (only those missing; Slurm
-# and munge for the cluster scripts and their test), then
+# and munge for the cluster scripts and their test; Blender and numpy, which
+# its glTF importer needs, for the Blender import's test), then
 # configures and builds it (Release) into build/. Safe to run again: with
 # everything present it only rebuilds what changed.
 set -euo pipefail
@@ -13,6 +14,7 @@ packages=(
   libtbb-dev libtinyobjloader-dev nlohmann-json3-dev libstb-dev libcli11-dev
   fonts-dejavu-core
   slurm-wlm munge
+  blender python3-numpy
 )
 
 missing=()

@@ -1,5 +1,6 @@
 #include "jade/app/pipeline.h"
 
+#include "jade/app/blender_script.h"
 #include "jade/app/report.h"
 #include "jade/core/error.h"
 #include "jade/core/progress.h"
@@ -148,8 +149,11 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
                                          final_stats.histogram, render_caption,
                                          "slice z = " + std::to_string(volume.resolution / 2)});
     write_image_u8(out("compare.png"), cmp.width, cmp.height, 3, cmp.pixels);
+    // The Blender import (docs/blender.md), run as it is: it reads the
+    // report.json beside it.
+    write_text_file(out("blender.py"), kBlenderScript);
     for (const char* name : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "convergence.png",
-                             "fit.png", "compare.png"})
+                             "fit.png", "compare.png", "blender.py"})
         res.written.push_back(out(name));
     const RenderJob replay = replay_job(o, prep, res.out_dir, exposure);
     res.seconds_write = clock.seconds();

@@ -159,7 +159,8 @@ std::string pipeline_report(const PipelineReport& in) {
                    {"ds", volume.optics.ds}, {"da", volume.optics.da},
                    {"density_scale", volume.optics.density_scale}, {"contrast", volume.optics.contrast},
                    {"mean_level", volume.optics.mean_level},
-                   {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side}};
+                   {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side},
+                   {"vdb_up_axis", o.vdb_z_up ? "z" : "y"}, {"vdb_color_grid", o.vdb_color_name}};
     if (res.structure_estimated) j["structure"] = structure_json(res);
     std::array<std::string, 3> status;
     for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);

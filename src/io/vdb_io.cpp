@@ -76,10 +76,20 @@ openvdb::math::Transform::Ptr cube_transform(const MaterialVolume& v, bool z_up)
     return xform;
 }
 
-// The voxels inside `mesh` on the volume's grid, grown by one voxel so that
-// interpolation at the surface reads coefficients rather than the empty
-// background: OpenVDB's mesh-to-level-set, its interior, dilated.
-openvdb::BoolGrid::Ptr interior_mask(const MaterialVolume& v, const TriangleMesh& mesh) {
+// Where `mesh` lies on the volume's grid: the voxels inside it grown by one
+// voxel, so that interpolation anywhere inside the surface reads coefficients
+// rather than the empty background, and the signed distance to the surface on
+// them (OpenVDB's mesh-to-level-set; negative inside). A renderer that
+// interpolates the grids (Cycles, Houdini) cuts the grown shell off at the
+// surface by the distance's sign, to a fraction of a voxel; without the shell
+// the surface's last half voxel would fade, and with it uncut it would show as
+// stone outside the surface (docs/blender.md measures both).
+struct MeshMask {
+    openvdb::BoolGrid::Ptr voxels;
+    openvdb::FloatGrid::Ptr distance;
+};
+
+MeshMask mesh_mask(const MaterialVolume& v, const TriangleMesh& mesh) {
     const auto xform = cube_transform(v, false);
     std::vector<openvdb::Vec3s> points;
     points.reserve(mesh.positions.size());
@@ -87,11 +97,12 @@ openvdb::BoolGrid::Ptr interior_mask(const MaterialVolume& v, const TriangleMesh
     std::vector<openvdb::Vec3I> triangles;
     triangles.reserve(mesh.triangles.size());
     for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
-    const auto sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, triangles, 3.f);
-    auto mask = openvdb::tools::sdfInteriorMask(*sdf);
-    openvdb::tools::dilateActiveValues(mask->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
+    MeshMask m;
+    m.distance = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, triangles, 3.f);
+    m.voxels = openvdb::tools::sdfInteriorMask(*m.distance);
+    openvdb::tools::dilateActiveValues(m.voxels->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
                                        openvdb::tools::EXPAND_TILES);
-    return mask;
+    return m;
 }
 
 // The leaves of the cube that hold a voxel of the mask (all with none).
@@ -151,6 +162,27 @@ openvdb::GridPtrVec coefficient_grids(const MaterialVolume& v, const openvdb::Bo
                 }
     });
     return {density, color, sigma_s, sigma_a};
+}
+
+// The mesh's signed distance on the voxels of the masked coefficient grids
+// (world units, negative inside): `sigma x (surface_distance < 0)` cuts their
+// grown shell off at the surface.
+constexpr const char* kSurfaceDistanceGrid = "surface_distance";
+openvdb::FloatGrid::Ptr surface_distance_grid(const MaterialVolume& v, const MeshMask& mask, bool z_up) {
+    const auto origins = masked_origins(leaf_origins(v.resolution), mask.voxels.get());
+    std::vector<openvdb::FloatGrid::TreeType::LeafNodeType*> leaves;
+    auto grid = make_grid<openvdb::FloatGrid>(kSurfaceDistanceGrid, "world unit",
+                                              "signed distance to the mesh, negative inside", cube_transform(v, z_up),
+                                              origins, leaves);
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t li) {
+        const auto inside = mask.voxels->getConstAccessor();
+        const auto distance = mask.distance->getConstAccessor();
+        for (auto it = leaves[li]->beginValueAll(); it; ++it) {
+            const openvdb::Coord xyz = it.getCoord();
+            if (inside.isValueOn(xyz)) leaves[li]->setValueOn(it.pos(), distance.getValue(xyz));
+        }
+    });
+    return grid;
 }
 
 // The levels themselves, every voxel of the cube (the material is the whole
@@ -290,8 +322,10 @@ bool fits_half(const CoefficientTable& table) {
 
 void require_memory_for_volume(int resolution) {
     // Levels (3 bytes) + their Int32 grid (4) + sigma_s, sigma_a, color (12
-    // each) + density (4), these four at most the whole cube (unmasked).
-    constexpr std::uint64_t kBytesPerVoxel = 3 + sizeof(std::int32_t) + 3 * sizeof(openvdb::Vec3f) + sizeof(float);
+    // each) + density (4), these four at most the whole cube (unmasked), and
+    // a masked file's surface_distance (4).
+    constexpr std::uint64_t kBytesPerVoxel =
+        3 + sizeof(std::int32_t) + 3 * sizeof(openvdb::Vec3f) + 2 * sizeof(float);
     const std::uint64_t s = std::uint64_t(std::max(resolution, 0));
     require_memory(kBytesPerVoxel * s * s * s, "--resolution " + std::to_string(resolution));
 }
@@ -301,17 +335,19 @@ void write_material_vdb(const std::string& path, const MaterialVolume& v, const 
     const int s = v.resolution;
     if (s <= 0 || v.levels.size() != std::size_t(s) * s * s)
         throw Error("internal: material volume levels do not match its resolution");
-    const openvdb::BoolGrid::Ptr mask = layout.mask ? interior_mask(v, *layout.mask) : nullptr;
     if (layout.color_name != "color" && layout.color_name != "Cd")
         throw Error("the albedo grid is named 'color' (Blender) or 'Cd' (Houdini), not '" + layout.color_name + "'");
-    openvdb::GridPtrVec grids = coefficient_grids(v, mask.get(), layout.z_up, layout.color_name);
+    const MeshMask mask = layout.mask ? mesh_mask(v, *layout.mask) : MeshMask{};
+    openvdb::GridPtrVec grids = coefficient_grids(v, mask.voxels.get(), layout.z_up, layout.color_name);
+    if (layout.mask) grids.push_back(surface_distance_grid(v, mask, layout.z_up));
     // The levels go last: a file cut short then loses part of them, which
     // their digest reveals, instead of the end of a grid no reader here checks.
     grids.push_back(levels_grid(v, layout.z_up));
     openvdb::MetaMap meta = material_metadata(v);
     meta.insertMeta("jade:up_axis", openvdb::StringMetadata(layout.z_up ? "z" : "y"));
     meta.insertMeta("jade:masked", openvdb::StringMetadata(layout.mask ? "coefficient grids inside the mesh, "
-                                                                         "grown by one voxel; levels: the whole cube"
+                                                                         "grown by one voxel (cut at surface_distance "
+                                                                         "< 0); levels: the whole cube"
                                                                        : "no: every voxel of the cube"));
 
     AtomicFile out(path);

@@ -436,13 +436,28 @@ TEST_CASE("masked to a mesh and turned Z-up: the coefficient grids cover the int
     CHECK(meta->metaValue<std::string>("jade:up_axis") == "z");
     std::set<std::string> names;
     for (auto& g : *grids) names.insert(g->getName());
-    CHECK(names == std::set<std::string>{"Cd", "density", "levels", "sigma_a", "sigma_s"});
+    CHECK(names == std::set<std::string>{"Cd", "density", "levels", "sigma_a", "sigma_s", "surface_distance"});
     const double h = 3.0 / 32;
     for (auto& g : *grids) {
         INFO(g->getName());
         if (g->getName() == "levels") {
             CHECK(g->activeVoxelCount() == 32u * 32u * 32u);
             continue;
+        }
+        if (g->getName() == "surface_distance") {
+            // Near the surface the sphere's own signed distance (Z-up world:
+            // the centre (0.5, 2, 3.5) is at (0.5, -3.5, 2)), to a tenth of a
+            // voxel plus the icosphere's facets (< 0.005); negative deep inside.
+            const auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
+            int near = 0;
+            for (auto it = f->cbeginValueOn(); it; ++it) {
+                const double exact = (f->indexToWorld(it.getCoord()) - openvdb::Vec3d(0.5, -3.5, 2.0)).length() - 1.5;
+                if (std::abs(exact) > 1.5 * h) continue;
+                ++near;
+                CHECK(*it == Approx(exact).margin(0.1 * h + 0.005));
+            }
+            CHECK(near > 1000);
+            CHECK(f->tree().getValue(openvdb::Coord(16, 16, 16)) < 0.f);
         }
         // The sphere holds pi/6 of the cube; growing it by a voxel (faces,
         // edges and corners: 1 to sqrt(3) voxels deep) adds its area times
