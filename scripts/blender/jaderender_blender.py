@@ -13,7 +13,6 @@ editor (Run Script). Options:
     --samples N          samples per pixel (default: the job's)
     --seed N             Cycles' seed (default: the job's)
     --width W --height H image size (default: the job's)
-    --mesh FILE          another mesh (.glb, .gltf, .obj) in place of the job's
     --save FILE.blend    save the scene
     --step-rate R        Cycles' volume step rate for a grid (default 0.25)
 
@@ -56,9 +55,9 @@ class JobError(Exception):
 def parse_args(argv):
     args = argv[argv.index("--") + 1:] if "--" in argv else []
     opts = {"report": None, "render": None, "exr": None, "samples": None, "seed": None, "width": None,
-            "height": None, "mesh": None, "save": None, "step_rate": 0.25}
+            "height": None, "save": None, "step_rate": 0.25}
     names = {"--render": "render", "--exr": "exr", "--samples": "samples", "--seed": "seed",
-             "--width": "width", "--height": "height", "--mesh": "mesh", "--save": "save",
+             "--width": "width", "--height": "height", "--save": "save",
              "--step-rate": "step_rate"}
     numbers = {"samples": int, "seed": int, "width": int, "height": int, "step_rate": float}
     i = 0
@@ -499,8 +498,9 @@ def build_scene(opts):
     job, volume_info, base = load_job(opts["report"])
     scene_job, medium = job["scene"], job.get("medium", {})
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    mesh_path = opts["mesh"] or resolve(base, scene_job.get("mesh", ""))
-    meshes = import_mesh(mesh_path, bool(scene_job.get("flat_normals", False)))
+    # The job's own mesh: the grids of a .vdb lie where the file puts them,
+    # around the mesh it was written for (docs/blender.md).
+    meshes = import_mesh(resolve(base, scene_job.get("mesh", "")), bool(scene_job.get("flat_normals", False)))
     volume_obj = None
     if medium.get("volume"):
         if medium.get("ks") is not None or medium.get("contrast") is not None:
