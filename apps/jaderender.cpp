@@ -389,6 +389,12 @@ int run_render(RenderFlags& f) {
     std::printf("  %.3g M samples/s, %.3g M path vertices/s; collisions %.3g M real, %.3g M null\n",
                 samples / rr.seconds / 1e6, double(rr.counters.vertices()) / rr.seconds / 1e6,
                 double(rr.counters.real_collisions) / 1e6, double(rr.counters.null_collisions) / 1e6);
+    if (rr.counters.sphere_walks > 0)
+        std::printf("  stiff medium: %.3g M walks through spheres (%.2f a path), each many collisions at "
+                    "once; their tables took %.2f s and %s\n",
+                    double(rr.counters.sphere_walks) / 1e6,
+                    double(rr.counters.sphere_walks) / double(rr.counters.paths), rr.setup_seconds,
+                    jade::format_megabytes(double(rr.sphere_exit_bytes)).c_str());
     if (rr.counters.manifold_walks > 0)
         std::printf("  light through the boundary: %.3g M manifold walks, %.1f%% found no refraction "
                     "path (most have none: beyond the critical angle)%s\n",
@@ -618,12 +624,12 @@ int run_pipeline(PipelineFlags& p) {
 }
 
 struct BenchCommands {
-    CLI::App *bench, *volume, *render, *fidelity;
+    CLI::App *bench, *volume, *render, *fidelity, *stiff;
 };
 
 // `jaderender bench volume|render` and their flags.
 BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench, jade::RenderBenchOptions& rbench,
-                                 jade::FidelityBenchOptions& fbench) {
+                                 jade::FidelityBenchOptions& fbench, jade::StiffBenchOptions& sbench) {
     auto* cmd = app.add_subcommand(
         "bench", "Benchmarks: time, throughput, error against time and peak memory");
     cmd->require_subcommand(1);
@@ -662,7 +668,14 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
     fidelity->add_option("--resolution", fbench.resolution, "Voxels along each side")->capture_default_str();
     fidelity->add_option("--width", fbench.width, "Final render width")->capture_default_str();
     fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
-    return {cmd, bench_volume, bench_render, fidelity};
+    auto* stiff = cmd->add_subcommand(
+        "stiff", "Stiff media: the white furnace from sigma_t 1 to 1e5, with and without sphere walks");
+    stiff->add_option("--width", sbench.width, "Image width and height")->capture_default_str();
+    stiff->add_option("--spp", sbench.spp, "Samples per pixel a case")->capture_default_str();
+    stiff->add_option("--seconds", sbench.seconds, "Time budget a case")->capture_default_str();
+    stiff->add_option("--max-sigma-t", sbench.max_sigma_t, "Largest sigma_t (per unit length)")
+        ->capture_default_str();
+    return {cmd, bench_volume, bench_render, fidelity, stiff};
 }
 
 // Parses the command line: -1 to go on, else the exit code (0 after --help
@@ -780,9 +793,11 @@ int run_command(int argc, char** argv) {
     jade::VolumeBenchOptions bench;
     jade::RenderBenchOptions rbench;
     jade::FidelityBenchOptions fbench;
-    const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench);
+    jade::StiffBenchOptions sbench;
+    const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench, sbench);
 
-    for (CLI::App* cmd : {volume_cmd, render_cmd, merge_cmd, batch_cmd, summary_cmd, benches.bench, benches.volume, benches.render, benches.fidelity})
+    for (CLI::App* cmd : {volume_cmd, render_cmd, merge_cmd, batch_cmd, summary_cmd, benches.bench, benches.volume,
+                          benches.render, benches.fidelity, benches.stiff})
         add_threads(*cmd);
 
     if (const int code = parse_flags(app, argc, argv); code >= 0) return code;
@@ -802,6 +817,7 @@ int run_command(int argc, char** argv) {
         if (*benches.volume) return jade::run_volume_benchmark(bench);
         if (*benches.render) return jade::run_render_benchmark(rbench);
         if (*benches.fidelity) return jade::run_fidelity_benchmark(fbench);
+        if (*benches.stiff) return jade::run_stiff_benchmark(sbench);
     } catch (const jade::Error& e) {
         std::fprintf(stderr, "jaderender: error: %s\n", e.what());
         return 2;

@@ -5,6 +5,7 @@
 #include "jade/core/parse.h"
 #include "jade/volume/material_volume.h"
 #include "jade/render/media/grid.h"
+#include "jade/render/media/homogeneous.h"
 #include "jade/geometry/mesh_io.h"
 #include "jade/geometry/mesh_accel.h"
 #include "jade/render/renderer.h"
@@ -17,6 +18,7 @@
 #include <tbb/info.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -148,6 +150,77 @@ int run_render_benchmark(const RenderBenchOptions& o) {
                 format_megabytes(double(medium.memory_bytes())).c_str(),
                 format_megabytes(double(o.width) * o.height * (6 * sizeof(double) + sizeof(std::uint32_t))).c_str(),
                 format_megabytes(double(peak_rss_bytes())).c_str());
+    return 0;
+}
+
+namespace {
+struct FurnaceCase {
+    double mean = 0, standard_error = 0, seconds = 0, setup_seconds = 0, table_mb = 0;
+    int spp = 0;
+    std::uint64_t capped = 0, walks = 0;
+};
+
+// One furnace render of the stiff benchmark (mean over all pixels, whose
+// truth is 1; the standard error from the pixels' spread).
+FurnaceCase furnace_case(const MeshAccel& accel, float sigma_t, bool walks, const StiffBenchOptions& o) {
+    const HomogeneousMedium medium(Spectrum(sigma_t), Spectrum(0.f));
+    Scene scene;
+    scene.boundary = &accel;
+    scene.medium = &medium;
+    scene.interface.mode = BoundaryMode::Fresnel;
+    scene.environment = Environment(Spectrum(1.f));
+    scene.fit_ray_epsilon();
+    CameraParams cp;
+    cp.width = cp.height = o.width;
+    const PinholeCamera camera(cp);
+    RenderSettings settings;
+    settings.spp = o.spp;
+    settings.time_limit = o.seconds;
+    settings.integrator.sphere_walks = walks;
+    FurnaceCase out;
+    const RenderResult r = render(scene, camera, settings);
+    out.table_mb = double(r.sphere_exit_bytes) / 1e6;
+    out.setup_seconds = r.setup_seconds;
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    for (int y = 0; y < o.width; ++y)
+        for (int x = 0; x < o.width; ++x) {
+            if (r.film.samples(x, y) == 0) continue;
+            const double v = average(r.film.mean(x, y));
+            sum += v;
+            sum2 += v * v;
+            ++n;
+        }
+    out.mean = n ? sum / n : 0.0;
+    out.standard_error = n > 1 ? std::sqrt(std::max(0.0, sum2 / n - out.mean * out.mean) / (n - 1)) : 0.0;
+    out.seconds = r.seconds;
+    out.spp = r.passes.empty() ? 0 : r.passes.back().spp;
+    out.capped = r.counters.capped_paths;
+    out.walks = r.counters.sphere_walks;
+    return out;
+}
+}  // namespace
+
+int run_stiff_benchmark(const StiffBenchOptions& o) {
+    if (o.width < 1 || o.spp < 1 || !(o.seconds > 0.0) || !(o.max_sigma_t >= 1.0))
+        throw Error("bench stiff: --width, --spp, --seconds and --max-sigma-t must be positive");
+    const TriangleMesh mesh = icosphere(5, 1.f);
+    const MeshAccel accel(mesh);
+    std::printf("stiff-media benchmark: white furnace (albedo 1, unit sphere, fresnel boundary, unit sky; "
+                "truth 1), %dx%d, up to %d spp or %.0f s a case, %d threads\n",
+                o.width, o.width, o.spp, o.seconds, tbb::info::default_concurrency());
+    std::printf("%9s %6s %9s %9s %6s %9s %10s %8s %9s %10s %10s\n", "sigma_t", "walks", "furnace", "std.err",
+                "spp", "seconds", "us/sample", "setup s", "tables MB", "walks/path", "capped");
+    for (double sigma_t = 1.0; sigma_t <= o.max_sigma_t * 1.0001; sigma_t *= 10.0)
+        for (bool walks : {true, false}) {
+            const FurnaceCase c = furnace_case(accel, float(sigma_t), walks, o);
+            const double samples = double(o.width) * o.width * std::max(1, c.spp);
+            std::printf("%9.0e %6s %9.4f %9.4f %6d %9.2f %10.1f %8.2f %9.1f %10.1f %10llu\n", sigma_t,
+                        walks ? "on" : "off", c.mean, c.standard_error, c.spp, c.seconds,
+                        1e6 * c.seconds / samples, c.setup_seconds, c.table_mb, double(c.walks) / samples,
+                        (unsigned long long)c.capped);
+            std::fflush(stdout);
+        }
     return 0;
 }
 

@@ -196,6 +196,7 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"estimated_relative_error", last.estimated_error},
                          {"stopped_by", res.final_render.stopped_by},
                          {"capped_paths", res.final_render.counters.capped_paths},
+                         {"sphere_walks", res.final_render.counters.sphere_walks},
                          {"A_render", in.final_stats.a}};
     j["appearance"] = appearance_json(res.final_look);
     if (res.material)  // the material with the shading divided out (fit/appearance.h)

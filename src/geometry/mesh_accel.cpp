@@ -6,6 +6,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -89,6 +90,66 @@ std::optional<SurfaceHit> MeshAccel::intersect(const glm::vec3& o, const glm::ve
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
     return make_hit(rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v);
+}
+
+namespace {
+// The point of triangle (a, b, c) closest to p, by the Voronoi region of
+// the triangle p projects into (Ericson 2004, "Real-Time Collision
+// Detection" §5.1.5): a vertex, an edge or the interior.
+glm::vec3 closest_point_on_triangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
+                                    const glm::vec3& c) {
+    const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0.f && d2 <= 0.f) return a;
+    const glm::vec3 bp = p - b;
+    const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0.f && d4 <= d3) return b;
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.f && d1 >= 0.f && d3 <= 0.f) return a + ab * (d1 / (d1 - d3));
+    const glm::vec3 cp = p - c;
+    const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0.f && d5 <= d6) return c;
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.f && d2 >= 0.f && d6 <= 0.f) return a + ac * (d2 / (d2 - d6));
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.f && d4 - d3 >= 0.f && d5 - d6 >= 0.f)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const float denom = va + vb + vc;
+    if (!(denom > 0.f)) return a;  // a degenerate triangle: its vertices stand for it
+    return a + ab * (vb / denom) + ac * (vc / denom);
+}
+
+struct ClosestPointQuery {
+    const TriangleMesh* mesh;
+};
+
+// Embree's callback for each triangle within the query's radius: shrinking
+// the radius to the distance found prunes every farther subtree.
+bool closest_point_callback(RTCPointQueryFunctionArguments* args) {
+    const auto& q = *static_cast<const ClosestPointQuery*>(args->userPtr);
+    const auto& tri = q.mesh->triangles[args->primID];
+    const glm::vec3 p(args->query->x, args->query->y, args->query->z);
+    const glm::vec3 nearest = closest_point_on_triangle(p, q.mesh->positions[tri[0]],
+                                                        q.mesh->positions[tri[1]], q.mesh->positions[tri[2]]);
+    const float d = glm::length(nearest - p);
+    if (!(d < args->query->radius)) return false;
+    args->query->radius = d;
+    return true;
+}
+}  // namespace
+
+float MeshAccel::distance_to_surface(const glm::vec3& p, float max_distance) const {
+    RTCPointQuery query;
+    query.x = p.x;
+    query.y = p.y;
+    query.z = p.z;
+    query.time = 0.f;
+    query.radius = max_distance;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    ClosestPointQuery user{&mesh_};
+    rtcPointQuery(embree_->scene, &query, &context, closest_point_callback, &user);
+    return std::min(query.radius, max_distance);
 }
 
 SurfaceHit MeshAccel::make_hit(float t, std::uint32_t triangle, float u, float v) const {

@@ -108,7 +108,7 @@ Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSe
     if (bounds.x0 < 0 || bounds.y0 < 0 || bounds.x1 > camera.width() ||
         bounds.y1 > camera.height() || bounds.x0 > bounds.x1 || bounds.y0 > bounds.y1)
         throw Error("the pixel bounds lie outside the image");
-    const Integrator integrator(scene, settings.integrator);
+    const Integrator integrator(scene, settings.integrator, settings.seed);
     Film film(camera.width(), camera.height());
     PathCounters local;
     add_samples(scene, integrator, camera, settings, samples, bounds, film, local, progress);
@@ -119,10 +119,15 @@ Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSe
 RenderResult render(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                     Progress* progress, const std::function<void(const PassRecord&)>& on_pass) {
     settings.validate();
-    const Integrator integrator(scene, settings.integrator);
-    RenderResult result{Film(camera.width(), camera.height()), {}, {}, 0.0, "spp"};
-    const PixelBounds whole{0, 0, camera.width(), camera.height()};
+    // The clock includes the integrator's set-up (a stiff medium's sphere
+    // exit tables take seconds): error against time is the user's time.
     const Stopwatch clock;
+    const Integrator integrator(scene, settings.integrator, settings.seed);
+    RenderResult result{Film(camera.width(), camera.height()), {}, {}, 0.0};
+    result.stopped_by = "spp";
+    result.setup_seconds = clock.seconds();
+    result.sphere_exit_bytes = integrator.sphere_exit_bytes();
+    const PixelBounds whole{0, 0, camera.width(), camera.height()};
     int done = 0;
     for (int pass = 0; done < settings.spp; ++pass) {
         const double error = done > 0 ? result.passes.back().estimated_error : 0.0;

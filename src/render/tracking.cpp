@@ -2,6 +2,7 @@
 
 #include <glm/common.hpp>
 
+#include <algorithm>
 #include <limits>
 
 namespace jade {
@@ -15,6 +16,7 @@ PathCounters& PathCounters::operator+=(const PathCounters& o) {
     manifold_walks += o.manifold_walks;
     manifold_failures += o.manifold_failures;
     capped_paths += o.capped_paths;
+    sphere_walks += o.sphere_walks;
     return *this;
 }
 
@@ -45,15 +47,18 @@ Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::v
     ++counters.shadow_rays;
     Spectrum tr(1.f);
     glm::vec3 o = origin;
-    bool inside = true;  // shadow rays start at medium vertices
+    float query_from = 0.f;  // Scene::spawn_inside
+    bool inside = true;      // shadow rays start at medium vertices
     for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
+        const glm::vec3 start = o;
         if (inside && scene.medium &&
             !advance_within_clearance(*scene.boundary, o, direction, [&](float r) {
                 tr *= ratio_tracking(*scene.medium, o, direction, r, rng, counters);
                 return max_component(tr) > 0.f;
             }))
             return tr;  // ended by roulette before reaching the surface
-        const auto hit = scene.boundary->intersect(o, direction, 0.f, kInfinity);
+        const auto hit = scene.boundary->intersect(
+            o, direction, std::max(0.f, query_from - glm::length(o - start)), kInfinity);
         if (inside && scene.medium) {
             tr *= ratio_tracking(*scene.medium, o, direction, hit ? hit->t : kInfinity, rng, counters);
             if (max_component(tr) <= 0.f) return tr;
@@ -63,7 +68,14 @@ Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::v
         inside = glm::dot(direction, hit->geometric_normal) < 0.f;
         if (glm::dot(direction, hit->geometric_normal) > 0.f && scene.boundary->convex())
             return tr;  // out of a convex object for good
-        o = scene.offset(p, hit->geometric_normal, direction);
+        if (inside) {
+            const Scene::Spawn spawn = scene.spawn_inside(p, hit->geometric_normal, direction);
+            o = spawn.origin;
+            query_from = spawn.query_from;
+        } else {
+            o = scene.offset(p, hit->geometric_normal, direction);
+            query_from = 0.f;
+        }
     }
     return Spectrum(0.f);
 }

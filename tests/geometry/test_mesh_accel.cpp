@@ -127,3 +127,24 @@ TEST_CASE("the shading normal's derivatives match finite differences along the s
     CHECK(sd.dn[0] == glm::vec3(0.f));
     CHECK(sd.dn[1] == glm::vec3(0.f));
 }
+
+TEST_CASE("the distance to the surface is the box's analytic distance, inside and out", "[mesh_accel]") {
+    // Inside [-1, 1]³ the nearest surface point lies on the nearest face:
+    // distance 1 − max|p_k|. Outside it is the length of p's excess over the
+    // box (a face, an edge or a corner: every Voronoi region of a triangle).
+    const TriangleMesh box = unit_box();
+    const MeshAccel accel(box);
+    SplitMix64 rng(7);
+    for (int i = 0; i < 2000; ++i) {
+        const glm::vec3 p(4.f * float(rng.uniform()) - 2.f, 4.f * float(rng.uniform()) - 2.f,
+                          4.f * float(rng.uniform()) - 2.f);
+        const glm::vec3 a = glm::abs(p);
+        const float inside = 1.f - std::max(a.x, std::max(a.y, a.z));
+        const float expected =
+            inside >= 0.f ? inside : glm::length(glm::max(a - glm::vec3(1.f), glm::vec3(0.f)));
+        INFO("p = " << p.x << " " << p.y << " " << p.z);
+        CHECK(accel.distance_to_surface(p, 10.f) == Approx(expected).margin(1e-5));
+        // No triangle within a smaller radius: the radius itself comes back.
+        CHECK(accel.distance_to_surface(p, 0.5f * expected) == Approx(0.5f * expected).margin(1e-6));
+    }
+}

@@ -35,6 +35,21 @@ struct RenderBenchOptions {
 };
 int run_render_benchmark(const RenderBenchOptions& options);
 
+// Stiff media (docs/stiff-media.md): the white furnace (albedo 1 in a unit
+// sphere behind the exact boundary under a unit sky, so every pixel's truth
+// is 1) at σ_t = 1, 10, …, 10⁵ per unit length, with sphere walks and with
+// collision-by-collision tracking. Each case renders width² pixels for at
+// most `seconds` (or `spp`) and prints its furnace mean and standard error,
+// samples, microseconds per sample, set-up (the tables: seconds and MB) and
+// paths cut by --max-depth. Returns 0.
+struct StiffBenchOptions {
+    int width = 32;
+    int spp = 64;
+    double seconds = 30.0;  // per case
+    double max_sigma_t = 1e5;
+};
+int run_stiff_benchmark(const StiffBenchOptions& options);
+
 // The paper's method beside the default on one photo and mesh (README,
 // "Fidelity"): the whole pipeline twice, the paper's (per-channel matching,
 // d_a = 0.1, the fBm of §4.1, k_s in 0.01 steps) and today's default, each

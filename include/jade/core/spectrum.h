@@ -18,6 +18,7 @@ inline const char* channel_name(int c) {
 
 inline float average(const Spectrum& s) { return (s.x + s.y + s.z) * (1.f / 3.f); }
 inline float max_component(const Spectrum& s) { return std::max(s.x, std::max(s.y, s.z)); }
+inline float min_component(const Spectrum& s) { return std::min(s.x, std::min(s.y, s.z)); }
 inline bool is_finite(const Spectrum& s) {
     return s.x - s.x == 0.f && s.y - s.y == 0.f && s.z - s.z == 0.f;
 }

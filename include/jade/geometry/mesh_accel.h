@@ -54,6 +54,11 @@ public:
     float clearance(const glm::vec3& p) const { return clearance_.at(p); }
     // Below this a clearance is not worth stepping by (one grid cell).
     float clearance_resolution() const { return clearance_.cell_size(); }
+    // The exact distance from p to the nearest point of the surface, or
+    // `max_distance` when none lies closer (an Embree closest-point query
+    // that visits only the triangles within max_distance). Costs about a ray
+    // query: for decisions the clearance grid is too coarse to make.
+    float distance_to_surface(const glm::vec3& p, float max_distance) const;
     const TriangleMesh& mesh() const { return mesh_; }
     // The mesh bounds a convex body (geometry/topology.h, is_convex): a ray
     // leaving its surface outward needs no query, it meets nothing more.

@@ -22,14 +22,25 @@
 // that leaves without interacting sees (background, environment or nothing)
 // is the renderer's to compose: the path returns its weight.
 //
+// Stiff media: where a homogeneous medium surrounds a path's vertex with a
+// sphere of several mean free paths in every channel, the path crosses
+// that sphere in one step drawn from a table of exact walks
+// (render/sphere_exit.h, docs/stiff-media.md) instead of collision by
+// collision, so an optically thick, bright object costs a bounded number
+// of steps a path however many collisions its walk makes. The walk's
+// collisions get no light estimate (the light reaching that deep is
+// found by the path when it leaves, with full weight).
+//
 // Paths end by absorption, Russian roulette (after `rr_depth` interactions,
 // survival = throughput when below 1) or when they would make interaction
 // max_depth + 1: the light reaching the first max_depth interactions is
-// counted. A cap biases the image, so capped paths are counted for reports.
+// counted (a walk through a sphere counts as one interaction). A cap biases
+// the image, so capped paths are counted for reports.
 
 #include "jade/core/random.h"
 #include "jade/render/light_estimator.h"
 #include "jade/render/scene.h"
+#include "jade/render/sphere_exit.h"
 #include "jade/render/tracking.h"
 
 #include <memory>
@@ -57,6 +68,10 @@ struct IntegratorSettings {
     int max_depth = 4096;  // surface + medium interactions; counted when reached
     int rr_depth = 8;      // interactions before Russian roulette starts
     LightThroughBoundary light_through_boundary = LightThroughBoundary::Auto;
+    // Cross spheres of homogeneous medium in one step where they fit
+    // (render/sphere_exit.h); off only to compare with collision-by-collision
+    // tracking (tests, `bench stiff`).
+    bool sphere_walks = true;
     void validate() const;
 };
 
@@ -72,8 +87,11 @@ struct PathSample {
 
 class Integrator {
 public:
-    // The scene must outlive the integrator.
-    Integrator(const Scene& scene, const IntegratorSettings& settings);
+    // The scene must outlive the integrator. The seed keys the sphere exit
+    // tables a stiff homogeneous medium needs (built here, in parallel).
+    Integrator(const Scene& scene, const IntegratorSettings& settings, std::uint64_t seed = 1);
+    // Memory of those tables (0 when the scene needs none).
+    std::size_t sphere_exit_bytes() const { return sphere_exits_.memory_bytes(); }
     // One camera path: radiance arriving at the camera along propagation
     // direction `direction` (unit) from `origin`, which lies outside the object.
     PathSample trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
@@ -82,6 +100,9 @@ public:
 private:
     struct PathState;
     enum class Flight { Reached, Scattered, Ended };
+    enum class Walk { NotTaken, Left, Ended };
+    Walk walk_sphere(PathState& s) const;
+    double sphere_room(PathState& s, const Spectrum& sigma_t) const;
     Flight track(PathState& s, float t_max, MediumProperties& at) const;
     Flight fly(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
@@ -96,6 +117,7 @@ private:
     const Scene& scene_;
     IntegratorSettings settings_;
     LightEstimators estimators_;
+    SphereExitTables sphere_exits_;
 };
 
 }  // namespace jade

@@ -41,6 +41,9 @@ public:
     // majorant.
     virtual MajorantSegment majorant_segment(const glm::vec3& o, const glm::vec3& d, float t_min,
                                              float t_max) const;
+    // The same coefficients at every point: a path may then take whole runs
+    // of collisions at once (render/sphere_exit.h).
+    virtual bool homogeneous() const { return false; }
     // Memory the medium holds for its coefficients (benchmarks report it).
     virtual std::size_t memory_bytes() const = 0;
 };

@@ -52,6 +52,10 @@ struct RenderResult {
     std::vector<PassRecord> passes;
     PathCounters counters;
     double seconds = 0.0;
+    // Of those, the integrator's set-up (a stiff medium's sphere exit
+    // tables), and the tables' memory.
+    double setup_seconds = 0.0;
+    std::size_t sphere_exit_bytes = 0;
     std::string stopped_by;  // "spp", "time" or "target error"
     // Pixels that hold no sample: a time budget that ran out during the
     // first pass leaves them black (reported, never hidden).

@@ -32,6 +32,25 @@ struct Scene {
     glm::vec3 offset(const glm::vec3& p, const glm::vec3& ng, const glm::vec3& direction) const {
         return p + (glm::dot(direction, ng) > 0.f ? ray_epsilon : -ray_epsilon) * ng;
     }
+    // A ray leaving surface point p into the object (against outward ng)
+    // along unit `direction`: the offset point lies ray_epsilon below the
+    // surface, and a medium tracked from there would begin a layer that
+    // thick too deep (σ_t·ε mean free paths: five in the unit sphere at
+    // σ_t = 10⁵, which darkened a bright stiff object by 7 %). The ray
+    // starts instead on the surface's plane, back along the ray from the
+    // offset point, and the surface query skips `query_from` of it (the
+    // stretch up to the offset point). A ray within 1/16 of grazing keeps the
+    // offset point (the way back would cross too much of the surface).
+    struct Spawn {
+        glm::vec3 origin;
+        float query_from = 0.f;
+    };
+    Spawn spawn_inside(const glm::vec3& p, const glm::vec3& ng, const glm::vec3& direction) const {
+        const glm::vec3 o = offset(p, ng, direction);
+        const float back = ray_epsilon / -glm::dot(direction, ng);
+        if (!(back > 0.f && back <= 16.f * ray_epsilon)) return {o, 0.f};
+        return {o - back * direction, back};
+    }
 };
 
 }  // namespace jade
