@@ -225,7 +225,8 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
         ->capture_default_str();
     cmd.add_option("--png", j.png, "sRGB PNG ('auto': beside --out; '' = none)")->capture_default_str();
     cmd.add_option("--convergence", j.convergence,
-                   "Error against time, CSV ('auto': <name>.convergence.csv beside --out; '' = none)")
+                   "Error against time, CSV, and its log-log picture as the same name .png ('auto': "
+                   "<name>.convergence.csv beside --out; '' = none)")
         ->capture_default_str();
     group_from(cmd, outputs, "Output");
     const std::size_t pieces = cmd.get_options().size();

@@ -1,5 +1,6 @@
 #include "jade/app/render_job.h"
 
+#include "jade/app/report.h"
 #include "jade/io/atomic_file.h"
 #include "jade/core/error.h"
 #include "jade/io/image_io.h"
@@ -17,6 +18,17 @@
 namespace jade {
 
 namespace {
+
+namespace fs = std::filesystem;
+
+// The convergence picture beside its CSV (x.convergence.csv ->
+// x.convergence.png); none when that name is the CSV itself or another of
+// the render's outputs.
+std::string convergence_plot_path(const std::string& csv, const std::string& out, const std::string& png) {
+    if (csv.empty()) return "";
+    const std::string plot = fs::path(csv).replace_extension(".png").string();
+    return plot == csv || plot == out || plot == png ? "" : plot;
+}
 
 // The job's medium, and what it references, owned in one place.
 struct LoadedMedium {
@@ -113,7 +125,8 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         png.clear();
         csv.clear();
     }
-    for (const std::string& path : {out, png, csv})
+    const std::string plot = convergence_plot_path(csv, job.out, png);
+    for (const std::string& path : {out, png, csv, plot})
         if (!path.empty()) require_output_folder(path);
     RenderJobResult result;
     const Stopwatch load_clock;
@@ -157,6 +170,11 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
     if (!csv.empty()) {
         write_convergence_csv(csv, result.render.passes);
         result.written.push_back(csv);
+    }
+    if (!plot.empty()) {
+        const RgbImage8 picture = convergence_plot(result.render.passes);
+        write_image_u8(plot, picture.width, picture.height, 3, picture.pixels);
+        result.written.push_back(plot);
     }
     return result;
 }

@@ -192,6 +192,10 @@ TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV"
     REQUIRE(rows.size() >= 3);
     CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse");
     CHECK(rows.back().rfind("3,8,", 0) == 0);  // passes 0 to 3 of 1, 1, 2, 4 samples: 8 spp
+    // ... and its picture beside it, as the pipeline's convergence.png.
+    const jade::ImageF32 plot = jade::read_image_f32(dir.file("r.convergence.png"));
+    CHECK(plot.width == 640);
+    CHECK(plot.height == 420);
 }
 
 TEST_CASE("render: a saved volume on another mesh, against a reference, stopped by time",
@@ -380,8 +384,15 @@ TEST_CASE("render: --out x.png writes the PNG once", "[cli][render]") {
     REQUIRE(r.code == 0);
     std::size_t wrote = 0;
     for (std::size_t at = r.out.find("wrote"); at != std::string::npos; at = r.out.find("wrote", at + 1)) ++wrote;
-    CHECK(wrote == 2);  // x.png and x.convergence.csv
+    CHECK(wrote == 3);  // x.png, x.convergence.csv and x.convergence.png
     CHECK(jade::read_image_f32(dir.file("x.png")).width == 8);
+    // A convergence picture whose name would be the render's PNG is not written.
+    REQUIRE(run(dir, "render --mesh " + kBlob + " --sigma-s 1 --sigma-a 1 --width 8 --height 8 --spp 2 --out " +
+                         dir.file("y.exr") + " --convergence " + dir.file("y.csv"))
+                .code == 0);
+    CHECK(jade::read_image_f32(dir.file("y.png")).width == 8);
+    CHECK(std::filesystem::exists(dir.file("y.csv")));
+    CHECK(dir.entries() == 6);  // x.png, x.convergence.{csv,png}, y.exr, y.png, y.csv
 }
 
 TEST_CASE("render: an inside-out mesh is turned outward with a warning and renders as the outward one",
