@@ -374,8 +374,11 @@ def add_camera(camera_job, width, height):
 
 
 def add_sun(lights):
-    if lights.get("file"):
-        raise JobError("lights.file (a glTF light) is not carried over yet: give the light as lights.direction")
+    # A glTF light file is read by jaderender, which writes what it found
+    # into the jobs it writes (report.json's job: lights.file_resolved).
+    if lights.get("file") and not lights.get("file_resolved"):
+        raise JobError("lights.file: this job's light is in a glTF file that only jaderender reads; use the "
+                       "report.json of a jaderender run with it (it carries the file's light) or give lights.direction")
     irradiance = float(lights.get("irradiance", 3.0))
     if irradiance <= 0.0:
         return

@@ -100,6 +100,7 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
         {"lights", {{"direction", vec(job.light_direction)}, {"irradiance", job.light_irradiance},
                     {"radius_degrees", job.light_radius_degrees},
                     {"file", stored_path(job.light_file, base_dir)},
+                    {"file_resolved", !job.light_file.empty() && job.light_file_resolved},
                     {"environment", is_colour(job.environment) ? job.environment
                                                                : stored_path(job.environment, base_dir)},
                     {"environment_scale", job.environment_scale},
@@ -166,6 +167,7 @@ void read_camera_lights_settings(const json& j, RenderJob& job, const std::strin
     read(lights, "irradiance", job.light_irradiance, file, "lights");
     read(lights, "radius_degrees", job.light_radius_degrees, file, "lights");
     read(lights, "file", job.light_file, file, "lights");
+    read(lights, "file_resolved", job.light_file_resolved, file, "lights");
     read(lights, "environment", job.environment, file, "lights");
     read(lights, "environment_scale", job.environment_scale, file, "lights");
     read(lights, "background", job.background, file, "lights");

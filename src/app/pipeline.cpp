@@ -7,6 +7,7 @@
 #include "jade/core/timing.h"
 #include "jade/fit/compare.h"
 #include "jade/io/atomic_file.h"
+#include "jade/io/gltf_preview.h"
 #include "jade/io/image_io.h"
 #include "jade/io/vdb_io.h"
 #include "jade/render/media/grid.h"
@@ -109,6 +110,11 @@ RenderJob replay_job(const PipelineOptions& o, const PreparedScene& prep, const 
     job.png = "auto";
     job.convergence = "auto";
     job.exposure = exposure;
+    if (!job.light_file.empty()) {  // the file's light, for readers that cannot load it (docs/blender.md)
+        job.light_direction = prep.scene.light.direction();
+        job.light_irradiance = prep.scene.light.irradiance();
+        job.light_file_resolved = true;
+    }
     return job;
 }
 
@@ -152,8 +158,16 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     // The Blender import (docs/blender.md), run as it is: it reads the
     // report.json beside it.
     write_text_file(out("blender.py"), kBlenderScript);
+    // The mesh with one homogeneous stand-in for the material, for web and
+    // real-time viewers (docs/preview.md).
+    const MeanCoefficients mean = mean_coefficients(volume);
+    const BoundaryParams& boundary = o.render.interface;
+    res.preview = gltf_preview_material(mean.sigma_s, mean.sigma_a, o.render.g,
+                                        boundary.mode == BoundaryMode::None ? 1.0 : boundary.ior,
+                                        mean_chord_length(prep.mesh));
+    write_preview_glb(out("preview.glb"), prep.mesh, res.preview);
     for (const char* name : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "convergence.png",
-                             "fit.png", "compare.png", "blender.py"})
+                             "fit.png", "compare.png", "blender.py", "preview.glb"})
         res.written.push_back(out(name));
     const RenderJob replay = replay_job(o, prep, res.out_dir, exposure);
     res.seconds_write = clock.seconds();

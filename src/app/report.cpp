@@ -206,6 +206,18 @@ std::string pipeline_report(const PipelineReport& in) {
                                        {"structure_distance", res.material->structure},
                                        {"block_pixels", res.material->block},
                                        {"blocks", res.material->blocks}};
+    const GltfPreviewMaterial& pv = res.preview;
+    j["preview"] = {{"file", "preview.glb"},
+                    {"base_color", pv.base_color},
+                    {"transmission", pv.transmission},
+                    {"attenuation_color", pv.attenuation_color},
+                    {"attenuation_distance", pv.attenuation_distance},
+                    {"thickness", pv.thickness},
+                    {"ior", pv.ior},
+                    {"mean_sigma_s", pv.sigma_s},
+                    {"mean_sigma_a", pv.sigma_a},
+                    {"slab_reflectance", pv.slab_R},
+                    {"slab_transmittance", pv.slab_T}};
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
     j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},

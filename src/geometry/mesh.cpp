@@ -23,6 +23,17 @@ glm::vec3 TriangleMesh::face_normal(std::size_t t) const {
     return glm::cross(p1 - p0, p2 - p0);
 }
 
+double surface_area(const TriangleMesh& mesh) {
+    double a = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) a += glm::length(glm::dvec3(mesh.face_normal(t)));
+    return a / 2.0;
+}
+
+double mean_chord_length(const TriangleMesh& mesh) {
+    const double area = surface_area(mesh);
+    return area > 0.0 ? 4.0 * std::abs(signed_volume(mesh)) / area : 0.0;
+}
+
 double signed_volume(const TriangleMesh& mesh) {
     // Relative to the bounding box's centre, so that a mesh far from the
     // origin does not lose the volume to cancellation.

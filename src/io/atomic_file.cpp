@@ -122,7 +122,7 @@ void AtomicFile::commit() {
 void write_text_file(const std::string& path, const std::string& text) {
     AtomicFile file(path);
     {
-        std::ofstream out(file.temp_path(), std::ios_base::out | std::ios_base::trunc);
+        std::ofstream out(file.temp_path(), std::ios_base::out | std::ios_base::trunc | std::ios_base::binary);
         out << text;
         out.flush();  // a full disk shows at the flush, not at <<
         const bool written = bool(out);

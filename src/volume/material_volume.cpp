@@ -62,6 +62,26 @@ CoefficientTable::CoefficientTable(const OpticalParams& p, double cube_side) {
         }
 }
 
+MeanCoefficients mean_coefficients(const MaterialVolume& volume) {
+    // Per channel, a histogram of the levels and the table of what each level
+    // means: the mean without a coefficient per voxel.
+    std::array<std::array<std::size_t, 256>, 3> count{};
+    for (const Rgb8& lv : volume.levels)
+        for (int c = 0; c < 3; ++c) ++count[c][lv[c]];
+    const CoefficientTable table(volume.optics, volume.cube.side);
+    MeanCoefficients mean;
+    if (volume.levels.empty()) return mean;
+    for (int c = 0; c < 3; ++c) {
+        for (int level = 0; level < 256; ++level) {
+            mean.sigma_s[c] += double(count[c][level]) * table.sigma_s[c][level];
+            mean.sigma_a[c] += double(count[c][level]) * table.sigma_a[c][level];
+        }
+        mean.sigma_s[c] /= double(volume.levels.size());
+        mean.sigma_a[c] /= double(volume.levels.size());
+    }
+    return mean;
+}
+
 RgbImage8 slice_image(const MaterialVolume& v, int z) {
     const int s = v.resolution;
     // One entry per level and channel, so the slice costs a lookup per voxel.

@@ -529,7 +529,7 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv",
-                          "convergence.png", "fit.png", "compare.png", "report.json"})
+                          "convergence.png", "fit.png", "compare.png", "blender.py", "preview.glb", "report.json"})
         CHECK(std::filesystem::exists(dir.file(std::string("o/") + f)));
     // The default fit (contrast) under a cap of 6: header + the two renders at
     // the k_s bounds + none of the k_s search (it leaves 4 to the contrast) +
@@ -539,11 +539,27 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     // report.json, written last, is the manifest: every other output with its size.
     const std::string manifest = slurp(dir.file("o/report.json"));
     for (const char* f : {"volume.vdb", "render.exr", "render.png", "fit.csv", "convergence.csv", "convergence.png",
-                          "fit.png", "compare.png"}) {
+                          "fit.png", "compare.png", "blender.py", "preview.glb"}) {
         INFO(f);
         const std::string size = json_field(manifest, f);
         REQUIRE_FALSE(size.empty());
         CHECK(std::stoull(size) == std::filesystem::file_size(dir.file(std::string("o/") + f)));
+    }
+    // preview.glb passes the Khronos glTF validator (tools/gltf-validator,
+    // installed by scripts/setup.sh) with no error and no warning, and the
+    // validator knows the three material extensions it uses.
+    {
+        const std::string cmd = "node " JADE_GLTF_VALIDATOR " " + dir.file("o/preview.glb") + " >" +
+                                dir.file("validator.txt") + " 2>&1";
+        const int status = std::system(cmd.c_str());
+        const std::string report = slurp(dir.file("validator.txt"));
+        std::filesystem::remove(dir.file("validator.txt"));
+        INFO(report);
+        CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 0));
+        CHECK_THAT(report, Catch::Contains("\"errors\": 0") && Catch::Contains("\"warnings\": 0") &&
+                               Catch::Contains("KHR_materials_volume") && Catch::Contains("KHR_materials_transmission") &&
+                               Catch::Contains("KHR_materials_ior"));
+        CHECK_THAT(report, !Catch::Contains("UNSUPPORTED_EXTENSION"));
     }
     // The saved volume carries the fitted k_s: render it with another mesh.
     CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
@@ -781,4 +797,27 @@ TEST_CASE("render --light-file: a glTF's directional light renders as the same l
                                      dir.file("c.exr"));
     CHECK(both.code == 2);
     CHECK_THAT(both.err, Catch::Contains("cannot be combined with --light-dir"));
+    // The pipeline's job carries the file's light beside the file, for readers
+    // without a glTF parser (the Blender import).
+    const Result fit = run(dir, "--photo " JADE_DATA_DIR "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kBlob +
+                                    kSmall + " --fit none --light-file " + dir.file("sun.gltf") + " --out " +
+                                    dir.file("o"));
+    INFO(fit.err);
+    REQUIRE(fit.code == 0);
+    const std::string report = slurp(dir.file("o/report.json"));
+    const auto lights = report.find("\"lights\": {", report.find("\"job\": {"));
+    REQUIRE(lights != std::string::npos);
+    const std::string job_lights = report.substr(lights, report.find('}', lights) - lights);
+    INFO(job_lights);
+    CHECK(json_field(job_lights, "file_resolved") == " true");
+    CHECK(json_field(job_lights, "irradiance") == " 2.5");
+    const auto dir_at = job_lights.find("\"direction\": [");
+    REQUIRE(dir_at != std::string::npos);
+    std::stringstream direction(job_lights.substr(job_lights.find('[', dir_at) + 1));
+    double v[3];
+    char sep;
+    direction >> v[0] >> sep >> v[1] >> sep >> v[2];
+    CHECK(v[0] == Approx(0.0).margin(1e-6));
+    CHECK(v[1] == Approx(1.0).epsilon(1e-6));
+    CHECK(v[2] == Approx(0.0).margin(1e-6));
 }

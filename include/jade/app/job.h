@@ -47,6 +47,10 @@ struct RenderJob {
     // A .gltf/.glb whose first directional light (KHR_lights_punctual) sets
     // the direction and irradiance instead of the two above.
     std::string light_file;
+    // True when light_direction and light_irradiance hold light_file's light
+    // (a job written by jaderender after loading it), so that a reader
+    // without a glTF parser (the Blender import) can use them.
+    bool light_file_resolved = false;
     std::string environment = "0.01";          // "v", "r,g,b", or a lat-long image: a dim fill (README: "Defaults")
     float environment_scale = 1.f;
     std::string background;                    // image behind the object

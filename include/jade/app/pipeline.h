@@ -7,6 +7,7 @@
 #include "jade/app/render_job.h"
 #include "jade/fit/appearance.h"
 #include "jade/fit/fit_session.h"
+#include "jade/io/gltf_preview.h"
 #include "jade/volume/color_match.h"
 #include "jade/volume/material_volume.h"
 #include "jade/volume/noise.h"
@@ -48,6 +49,7 @@ struct PipelineResult {
     RenderResult final_render;
     Appearance final_look;            // the final render against the photo (fit/appearance.h)
     std::optional<MaterialAppearance> material;  // with measure_material
+    GltfPreviewMaterial preview;      // preview.glb's stand-in material (io/gltf_preview.h)
     std::vector<std::string> warnings;
     std::vector<std::string> written;
     double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_render = 0,

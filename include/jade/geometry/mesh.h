@@ -30,6 +30,12 @@ struct TriangleMesh {
 // The volume a closed mesh encloses, by the divergence theorem (Σ p0·(p1 × p2) / 6
 // over its triangles): negative when its triangles face inward.
 double signed_volume(const TriangleMesh& mesh);
+// The total area of the mesh's triangles.
+double surface_area(const TriangleMesh& mesh);
+// The mean length of the chords that random straight lines cut through a
+// closed mesh: 4V/A (Cauchy's formula; it holds for any body, convex or not,
+// when every piece of a line inside it counts as a chord).
+double mean_chord_length(const TriangleMesh& mesh);
 // Turns every triangle (and the normals with it) inside out.
 void reverse_orientation(TriangleMesh& mesh);
 

@@ -42,8 +42,9 @@ private:
     int slot_ = -1;  // its entry in the interrupt handler's table (-1: none free)
 };
 
-// Writes `text` to `path` through an AtomicFile, checking the stream after
-// its last flush and its close (where a full disk shows).
+// Writes `text` (or any bytes, e.g. a .glb) to `path` through an AtomicFile,
+// checking the stream after its last flush and its close (where a full disk
+// shows).
 void write_text_file(const std::string& path, const std::string& text);
 
 // Size of a file in bytes (0 when it does not exist).

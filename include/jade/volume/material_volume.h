@@ -87,6 +87,14 @@ struct CoefficientTable {
     CoefficientTable(const OpticalParams& p, double cube_side);
 };
 
+// The mean σ_s and σ_a per world unit over the volume's voxels, per channel:
+// the homogeneous medium that stands for the volume where one medium must
+// (the pipeline's preview.glb, io/gltf_preview.h).
+struct MeanCoefficients {
+    std::array<double, 3> sigma_s{0, 0, 0}, sigma_a{0, 0, 0};
+};
+MeanCoefficients mean_coefficients(const MaterialVolume& volume);
+
 // Slice z of the volume as an 8-bit RGB image (row y, column x): the
 // colour-matched noise image of §4.2 with the volume's contrast applied
 // (level 256·v'_c), i.e. the material the renderer sees. At contrast 1 these
