@@ -256,7 +256,12 @@ Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
     if (flight != Flight::Reached) return flight;
     hit = scene_.boundary->intersect(s.o, s.d, std::max(0.f, query_from - glm::length(s.o - start)),
                                      kInfinity);
-    return track(s, hit ? hit->t : kInfinity, at);
+    // A ray from inside that meets no surface has slipped out through a crack
+    // between triangles: the medium lies inside the mesh, so there is nothing
+    // to track (an unbounded flight through a grid that is zero beyond its
+    // edge would draw null collisions for ever) and the path escapes.
+    if (!hit) return Flight::Reached;
+    return track(s, hit->t, at);
 }
 
 // Delta tracking to the next real collision before t_max, against the

@@ -59,8 +59,8 @@ Spectrum transmittance(const Scene& scene, const glm::vec3& origin, const glm::v
             return tr;  // ended by roulette before reaching the surface
         const auto hit = scene.boundary->intersect(
             o, direction, std::max(0.f, query_from - glm::length(o - start)), kInfinity);
-        if (inside && scene.medium) {
-            tr *= ratio_tracking(*scene.medium, o, direction, hit ? hit->t : kInfinity, rng, counters);
+        if (inside && scene.medium && hit) {  // no hit: out through a crack (Integrator::fly)
+            tr *= ratio_tracking(*scene.medium, o, direction, hit->t, rng, counters);
             if (max_component(tr) <= 0.f) return tr;
         }
         if (!hit) return tr;

@@ -738,3 +738,27 @@ TEST_CASE("a delta light inside a dielectric sphere is the limit of shrinking di
         }
     }
 }
+
+TEST_CASE("a ray that leaves through a crack in the mesh escapes instead of tracking for ever", "[integrator][render]") {
+    // A box without its +z face: rays enter through −z and meet no surface
+    // inside. The grid is zero along their way and beyond its edge, but its
+    // majorant is not (one dense corner voxel), so an unbounded flight would
+    // draw null collisions for ever (the hang a fitted volume in the vase
+    // showed). The rays must come out with the environment, untouched.
+    TriangleMesh open = jade_test::box_mesh({-1, -1, -1}, {1, 1, 1});
+    open.triangles.erase(open.triangles.begin() + 2, open.triangles.begin() + 4);  // the +z face
+    const MeshAccel accel(open);
+    CoefficientGrids g;
+    g.placement.size = {4, 4, 4};
+    g.placement.origin = glm::vec3(-1.5f);
+    g.placement.spacing = glm::vec3(1.f);
+    g.sigma_s.assign(64, Spectrum(0.f));
+    g.sigma_a.assign(64, Spectrum(0.f));
+    g.sigma_s[0] = Spectrum(5.f);
+    const FloatGridMedium grid(g);
+    const PinholeCamera cam = camera_at({0, 0, -4}, {0, 0, 0}, 5, 8);
+    const RenderResult r = render_spp(basic_scene(accel, &grid, BoundaryMode::None, Spectrum(1.f)), cam, 4, 1);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            for (int c = 0; c < 3; ++c) REQUIRE(r.film.mean(x, y)[c] == Approx(1.0).epsilon(1e-6));
+}
