@@ -152,8 +152,7 @@ TEST_CASE("Blender round trip: a heterogeneous volume in the vase, index-matched
     // surface_distance < 0. Measured: Cycles 1.6 %, 2.9 % and 3.8 % darker
     // (noise 0.3 %); the bound is 5 %. A constant grid agrees within 1.3 %,
     // so the rest comes with the heterogeneity. With a fit's k_s (0.07..2.3)
-    // Cycles differs more, up to 17 % brighter in blue: docs/blender.md,
-    // "Agreement"; not yet explained, so not hidden here.
+    // Cycles differs more, up to 13 % brighter in blue: the next test.
     TempDir dir;
     jaderender("volume --photo " + kData + "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 64 --contrast 1,4,9.5 "
                "--out " + dir.file("v.vdb"),
@@ -170,6 +169,36 @@ TEST_CASE("Blender round trip: a heterogeneous volume in the vase, index-matched
                        "\"width\": 64, \"height\": 64}"));
     const Comparison r = render_both(dir, job, std::string(JADE_TEST_OUTPUT_DIR) + "/blender-volume.png");
     const std::array<double, 3> bound{0.05, 0.05, 0.05};
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": ours " << r.ours.mean[c] << " +- " << r.ours.error[c] << ", Cycles "
+                        << r.cycles.mean[c] << " +- " << r.cycles.error[c]);
+        CHECK(std::abs(r.cycles.mean[c] / r.ours.mean[c] - 1.0) <= bound[c]);
+    }
+}
+
+TEST_CASE("Blender round trip: the demo's fitted volume in the vase, index-matched and lit by the sky", "[blender]") {
+    // The demo fit's k_s (2.30, 0.92, 0.07) and contrast (1.7, 6.1, 11.2) at
+    // 64^3, in the scene above. Cycles is 3 % darker in red, 1.4 % brighter
+    // in green and 12.5 % brighter in blue. The third witness,
+    // Mitsuba 3 (scripts/bench-witness.sh, docs/blender.md "A fitted
+    // volume"), agrees with jaderender within 3.1 %, 0.7 % and 0.5 %, and
+    // Cycles is as far off on the constant grid of the same mean (+12.9 % in
+    // blue), so the difference is Cycles' (as the script drives it) on this
+    // medium's coefficients (blue: albedo 0.47, 53 mean free paths per unit),
+    // not the heterogeneity. Bounds: 5 % in red and green, 15 % in blue.
+    TempDir dir;
+    jaderender("--photo " + kData + "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kData +
+                   "/meshes/greek-vase-01.glb --resolution 64 --ks 2.30,0.92,0.07 --contrast 1.7,6.1,11.2"
+                   " --fit none --spp 4 --width 32 --height 32 --out " + dir.file("fit"),
+               dir);
+    const std::string job = dir.file("job.json");
+    write(job, replace(job_json(kData + "/meshes/greek-vase-01.glb", "{\"volume\": \"fit/volume.vdb\"}", "none",
+                                "{\"irradiance\": 0, \"environment\": \"1.0\"}", 64, 128),
+                       "CAMERA",
+                       "{\"origin\": [0, 0.5, 0.82], \"target\": [0, 0.2, 0], \"fov_degrees\": 40, "
+                       "\"width\": 64, \"height\": 64}"));
+    const Comparison r = render_both(dir, job, std::string(JADE_TEST_OUTPUT_DIR) + "/blender-fitted-volume.png");
+    const std::array<double, 3> bound{0.05, 0.05, 0.15};
     for (int c = 0; c < 3; ++c) {
         INFO("channel " << c << ": ours " << r.ours.mean[c] << " +- " << r.ours.error[c] << ", Cycles "
                         << r.cycles.mean[c] << " +- " << r.cycles.error[c]);
