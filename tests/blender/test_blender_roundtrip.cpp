@@ -115,6 +115,23 @@ Comparison render_both(const TempDir& dir, const std::string& job, const std::st
     return {masked_means(o1, o2, mask), masked_means(c1, c2, mask)};
 }
 
+// The volume the pipeline wrote into dir/fit/ in the vase, index-matched under
+// a constant sky of 1, rendered by both; each channel's means within `bound`.
+void check_vase_volume(const TempDir& dir, const std::array<double, 3>& bound, const std::string& side_by_side) {
+    const std::string job = dir.file("job.json");
+    write(job, replace(job_json(kData + "/meshes/greek-vase-01.glb", "{\"volume\": \"fit/volume.vdb\"}", "none",
+                                "{\"irradiance\": 0, \"environment\": \"1.0\"}", 64, 128),
+                       "CAMERA",
+                       "{\"origin\": [0, 0.5, 0.82], \"target\": [0, 0.2, 0], \"fov_degrees\": 40, "
+                       "\"width\": 64, \"height\": 64}"));
+    const Comparison r = render_both(dir, job, std::string(JADE_TEST_OUTPUT_DIR) + "/" + side_by_side);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": ours " << r.ours.mean[c] << " +- " << r.ours.error[c] << ", Cycles "
+                        << r.cycles.mean[c] << " +- " << r.cycles.error[c]);
+        CHECK(std::abs(r.cycles.mean[c] / r.ours.mean[c] - 1.0) <= bound[c]);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("Blender round trip: a homogeneous medium in each boundary renders alike in Cycles", "[blender]") {
@@ -161,19 +178,7 @@ TEST_CASE("Blender round trip: a heterogeneous volume in the vase, index-matched
                    "/meshes/greek-vase-01.glb --volume " + dir.file("v.vdb") +
                    " --fit none --spp 4 --width 32 --height 32 --out " + dir.file("fit"),
                dir);
-    const std::string job = dir.file("job.json");
-    write(job, replace(job_json(kData + "/meshes/greek-vase-01.glb", "{\"volume\": \"fit/volume.vdb\"}", "none",
-                                "{\"irradiance\": 0, \"environment\": \"1.0\"}", 64, 128),
-                       "CAMERA",
-                       "{\"origin\": [0, 0.5, 0.82], \"target\": [0, 0.2, 0], \"fov_degrees\": 40, "
-                       "\"width\": 64, \"height\": 64}"));
-    const Comparison r = render_both(dir, job, std::string(JADE_TEST_OUTPUT_DIR) + "/blender-volume.png");
-    const std::array<double, 3> bound{0.05, 0.05, 0.05};
-    for (int c = 0; c < 3; ++c) {
-        INFO("channel " << c << ": ours " << r.ours.mean[c] << " +- " << r.ours.error[c] << ", Cycles "
-                        << r.cycles.mean[c] << " +- " << r.cycles.error[c]);
-        CHECK(std::abs(r.cycles.mean[c] / r.ours.mean[c] - 1.0) <= bound[c]);
-    }
+    check_vase_volume(dir, {0.05, 0.05, 0.05}, "blender-volume.png");
 }
 
 TEST_CASE("Blender round trip: the demo's fitted volume in the vase, index-matched and lit by the sky", "[blender]") {
@@ -191,17 +196,5 @@ TEST_CASE("Blender round trip: the demo's fitted volume in the vase, index-match
                    "/meshes/greek-vase-01.glb --resolution 64 --ks 2.30,0.92,0.07 --contrast 1.7,6.1,11.2"
                    " --fit none --spp 4 --width 32 --height 32 --out " + dir.file("fit"),
                dir);
-    const std::string job = dir.file("job.json");
-    write(job, replace(job_json(kData + "/meshes/greek-vase-01.glb", "{\"volume\": \"fit/volume.vdb\"}", "none",
-                                "{\"irradiance\": 0, \"environment\": \"1.0\"}", 64, 128),
-                       "CAMERA",
-                       "{\"origin\": [0, 0.5, 0.82], \"target\": [0, 0.2, 0], \"fov_degrees\": 40, "
-                       "\"width\": 64, \"height\": 64}"));
-    const Comparison r = render_both(dir, job, std::string(JADE_TEST_OUTPUT_DIR) + "/blender-fitted-volume.png");
-    const std::array<double, 3> bound{0.05, 0.05, 0.15};
-    for (int c = 0; c < 3; ++c) {
-        INFO("channel " << c << ": ours " << r.ours.mean[c] << " +- " << r.ours.error[c] << ", Cycles "
-                        << r.cycles.mean[c] << " +- " << r.cycles.error[c]);
-        CHECK(std::abs(r.cycles.mean[c] / r.ours.mean[c] - 1.0) <= bound[c]);
-    }
+    check_vase_volume(dir, {0.05, 0.05, 0.15}, "blender-fitted-volume.png");
 }
