@@ -162,6 +162,7 @@ struct RenderFlags {
     jade::RenderJob job;
     std::string boundary = "split";
     std::string light_nee = "auto";
+    std::string light_chain = "auto";
     std::string samples, pixels, piece_of;  // a piece of the render
     Vec3Flag sigma_s, sigma_a, ks, contrast, vdb_albedo, origin, target, up, light_dir;
 };
@@ -187,6 +188,7 @@ bool preload_job(int argc, char** argv, RenderFlags& f) {
         }
         f.boundary = jade::to_string(f.job.interface.mode);
         f.light_nee = jade::to_string(f.job.settings.integrator.light_through_boundary);
+        f.light_chain = jade::to_string(f.job.settings.integrator.light_chain);
     }
     return true;
 }
@@ -277,7 +279,7 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "file) for the light's direction and irradiance (its intensity in lux)");
     cmd.add_option("--light-radius", j.light_radius_degrees,
                    "Its angular radius, degrees (0 = a delta light: inside a dielectric object it "
-                   "is found only through one refraction, see --light-nee)")
+                   "is found only along the chains of --light-chain, see also --light-nee)")
         ->capture_default_str();
     cmd.add_option("--env", j.environment,
                    "Environment: constant radiance (v or r,g,b) or a lat-long .exr/.hdr image "
@@ -310,6 +312,14 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "environment image is importance-sampled through the boundary by the walk "
                    "('off' turns that off too)")
         ->capture_default_str();
+    cmd.add_option("--light-chain", f.light_chain,
+                   "The specular chains through a refracting boundary along which the lights are "
+                   "estimated: '1' = one refraction out, '2' = also one internal reflection before it "
+                   "(same image; more work per sample, less noise from light that leaves after a bounce "
+                   "off the inside), 'auto' = '2' for a delta light (which nothing else reaches along "
+                   "that chain) and a light under 10 degrees in radius unless --light-nee is 'cone', "
+                   "'1' otherwise")
+        ->capture_default_str();
     group_from(cmd, first, "Rendering");
 }
 
@@ -318,6 +328,7 @@ void resolve_flags(RenderFlags& f) {
     jade::RenderJob& j = f.job;
     j.interface.mode = jade::parse_boundary_mode(f.boundary);
     j.settings.integrator.light_through_boundary = jade::parse_light_through_boundary(f.light_nee);
+    j.settings.integrator.light_chain = jade::parse_light_chain(f.light_chain);
     if (f.sigma_s.given()) j.sigma_s = f.sigma_s.value("--sigma-s");
     if (f.sigma_a.given()) j.sigma_a = f.sigma_a.value("--sigma-a");
     if (f.ks.given()) {
@@ -397,8 +408,8 @@ int run_render(RenderFlags& f) {
                     double(rr.counters.sphere_walks) / double(rr.counters.paths), rr.setup_seconds,
                     jade::format_megabytes(double(rr.sphere_exit_bytes)).c_str());
     if (rr.counters.manifold_walks > 0)
-        std::printf("  light through the boundary: %.3g M manifold walks, %.1f%% found no refraction "
-                    "path (most have none: beyond the critical angle)%s\n",
+        std::printf("  light through the boundary: %.3g M manifold walks, %.1f%% found no specular "
+                    "chain (most have none: beyond the critical angle)%s\n",
                     double(rr.counters.manifold_walks) / 1e6,
                     100.0 * double(rr.counters.manifold_failures) / double(rr.counters.manifold_walks),
                     j.light_radius_degrees > 0.f ? "" : "; a delta light's missed paths stay dark");

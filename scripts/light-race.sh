@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The light estimators through the boundary at equal time (README, "How the
 # lights reach the inside"): the demo's volume in the vase, 256², for each
-# light radius and each --light-nee, and under Blender's sunrise HDR (light
-# off) with the environment's walk off and on; two seeds each; prints the
-# relative MSE per pixel from the two renders' difference.
+# light radius and each --light-nee (and the walk with --light-chain 2), and
+# under Blender's sunrise HDR (light off) with the environment's walk off, on,
+# and on with both chains; two seeds each; prints the relative MSE per pixel
+# from the two renders' difference.
 #   bash scripts/light-race.sh [seconds] [radii]      (default: 30 "20 5"; "" for the sky alone)
 # The sky renders are transparent: their MSE is over the object's pixels only.
 # Runs the demo first when out/onyx002/report.json is missing.
@@ -24,20 +25,21 @@ runs=$work/light-race
 mkdir -p "$runs"
 cp build/jaderender "$work/jaderender"
 for r in $radii; do
-    for e in off cone manifold; do
+    for e in off cone manifold manifold2; do
         for seed in 1 2; do
             "$work/jaderender" render --job "$job" --width 256 --height 256 --spp 1000000 \
-                --time "$seconds" --light-radius "$r" --light-nee "$e" --seed "$seed" \
+                --time "$seconds" --light-radius "$r" --light-nee "${e%2}" --seed "$seed" \
+                --light-chain "$([ "$e" = manifold2 ] && echo 2 || echo 1)" \
                 --out "$runs/r${r}_${e}_s${seed}.exr" --png "" --convergence "" \
                 > "$runs/r${r}_${e}_s${seed}.log"
         done
     done
 done
-for e in off auto; do
+for e in off auto auto2; do
     for seed in 1 2; do
         "$work/jaderender" render --job "$job" --width 256 --height 256 --spp 1000000 \
             --time "$seconds" --light-irradiance 0 --env data/hdri/blender_sunrise.exr --transparent \
-            --light-nee "$e" --seed "$seed" \
+            --light-nee "${e%2}" --seed "$seed" --light-chain "$([ "$e" = auto2 ] && echo 2 || echo 1)" \
             --out "$runs/sky_${e}_s${seed}.exr" --png "" --convergence "" \
             > "$runs/sky_${e}_s${seed}.log" 2>&1
     done

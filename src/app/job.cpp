@@ -72,6 +72,18 @@ void read_light_nee(const json& settings, LightThroughBoundary& out, const std::
     }
 }
 
+// settings.light_chain: "auto", 1 or 2 (a number or its text).
+void read_light_chain(const json& settings, LightChain& out, const std::string& file) {
+    if (!settings.contains("light_chain")) return;
+    const json& v = settings.at("light_chain");
+    if (!v.is_string() && !v.is_number_integer()) fail_file(file, "'settings.light_chain' has the wrong type");
+    try {
+        out = parse_light_chain(v.is_string() ? v.get<std::string>() : std::to_string(v.get<int>()));
+    } catch (const Error& e) {
+        fail_file(file, "'settings.light_chain': " + std::string(e.what()));
+    }
+}
+
 }  // namespace
 
 std::string sibling_path(const std::string& out, const std::string& suffix) {
@@ -109,7 +121,8 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
         {"settings", {{"spp", job.settings.spp}, {"time_limit", job.settings.time_limit},
                       {"target_error", job.settings.target_error}, {"seed", job.settings.seed},
                       {"max_depth", job.settings.integrator.max_depth},
-                      {"light_nee", to_string(job.settings.integrator.light_through_boundary)}}},
+                      {"light_nee", to_string(job.settings.integrator.light_through_boundary)},
+                      {"light_chain", to_string(job.settings.integrator.light_chain)}}},
         {"outputs", {{"out", stored_path(job.out, base_dir)}, {"png", stored_path(job.png, base_dir)},
                      {"convergence", stored_path(job.convergence, base_dir)},
                      {"reference", stored_path(job.reference, base_dir)}, {"exposure", job.exposure}}}};
@@ -178,6 +191,7 @@ void read_camera_lights_settings(const json& j, RenderJob& job, const std::strin
     read(settings, "seed", job.settings.seed, file, "settings");
     read(settings, "max_depth", job.settings.integrator.max_depth, file, "settings");
     read_light_nee(settings, job.settings.integrator.light_through_boundary, file);
+    read_light_chain(settings, job.settings.integrator.light_chain, file);
     read(outputs, "out", job.out, file, "outputs");
     read(outputs, "png", job.png, file, "outputs");
     read(outputs, "convergence", job.convergence, file, "outputs");

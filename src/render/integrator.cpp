@@ -84,6 +84,22 @@ LightThroughBoundary parse_light_through_boundary(const std::string& name) {
     throw Error("--light-nee must be 'auto', 'manifold', 'cone' or 'off', not '" + name + "'");
 }
 
+const char* to_string(LightChain chain) {
+    switch (chain) {
+    case LightChain::Auto: return "auto";
+    case LightChain::One: return "1";
+    case LightChain::Two: return "2";
+    }
+    return "?";
+}
+
+LightChain parse_light_chain(const std::string& name) {
+    if (name == "auto") return LightChain::Auto;
+    if (name == "1") return LightChain::One;
+    if (name == "2") return LightChain::Two;
+    throw Error("--light-chain must be 'auto', '1' or '2', not '" + name + "'");
+}
+
 void IntegratorSettings::validate() const {
     if (max_depth < 1) throw Error("--max-depth must be at least 1");
     if (rr_depth < 0) throw Error("internal: the Russian roulette depth must not be negative");
@@ -107,11 +123,13 @@ struct Integrator::PathState {
     // What the path did since its last scattering, for MIS with the light
     // estimators (PathToLight): only null collisions and index-matched
     // crossings (Straight), then exactly one refraction out (Refracted), or
-    // anything else (Other).
-    enum class Since { Other, Straight, Refracted } since = Since::Other;
+    // one internal reflection (Reflected) and then the refraction out
+    // (ReflectedRefracted), or anything else (Other).
+    enum class Since { Other, Straight, Refracted, Reflected, ReflectedRefracted } since = Since::Other;
     glm::vec3 scattered_at{0.f}, scattered_along{0.f};  // that scattering's vertex and direction
     float phase_pdf = 0.f;                              // and the phase function's density of it
-    glm::vec3 exit_point{0.f};                          // where the path then refracted out
+    glm::vec3 reflection_point{0.f};                    // where the path then reflected inside
+    glm::vec3 exit_point{0.f};                          // where it refracted out
     int depth = 0, crossings = 0;
     glm::vec3 collision{0.f};  // where track() stopped at a real scattering
     float query_from = 0.f;    // the next surface query starts this far along the ray (Scene::spawn_inside)
@@ -317,8 +335,8 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     }
     ++s.depth;
     s.w.scale(m.sigma_s / m.sigma_s[s.hero]);
-    for (const LightEstimator* e : {estimators_.directional.get(), estimators_.environment.get()})
-        if (e) estimate_light(s, *e, s.collision);
+    for (const auto* light : {&estimators_.directional, &estimators_.environment})
+        for (const auto& e : *light) estimate_light(s, *e, s.collision);
     const glm::vec3 d_in = s.d;
     s.o = s.collision;
     const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
@@ -375,10 +393,7 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
             entering ? enter(s, p, ng, n, u) : sample_boundary(scene_.interface, s.d, n, false, u);
         if (!sampled) return false;
         const BoundarySample& bs = *sampled;
-        const bool refracted_out = !entering && !bs.reflected;
-        s.since = s.since == PathState::Since::Straight && refracted_out ? PathState::Since::Refracted
-                                                                         : PathState::Since::Other;
-        s.exit_point = p;
+        record_specular_event(s, p, entering, bs.reflected, glm::dot(bs.direction, ng) < 0.f);
         s.d = bs.direction;
         s.straight = false;
         if (!survive(s)) return false;
@@ -394,6 +409,28 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
         s.o = scene_.offset(p, ng, s.d);
     }
     return true;
+}
+
+// The chain since the last scattering after a surface event at p (the
+// light estimators' path classes, PathToLight): a refraction out after
+// nothing, or after one internal reflection that stayed inside, is one
+// they make; anything else is not.
+void Integrator::record_specular_event(PathState& s, const glm::vec3& p, bool entering, bool reflected,
+                                       bool inside_after) const {
+    using Since = PathState::Since;
+    const bool refracted_out = !entering && !reflected;
+    if (s.since == Since::Straight && !entering && reflected && inside_after) {
+        s.since = Since::Reflected;
+        s.reflection_point = p;
+    } else if (s.since == Since::Straight && refracted_out) {
+        s.since = Since::Refracted;
+        s.exit_point = p;
+    } else if (s.since == Since::Reflected && refracted_out) {
+        s.since = Since::ReflectedRefracted;
+        s.exit_point = p;
+    } else {
+        s.since = Since::Other;
+    }
 }
 
 // A ray arriving from outside at surface point p. Where its mirror image
@@ -432,31 +469,40 @@ void Integrator::escape(PathState& s) const {
         s.out.backdrop_direction = s.d;
         return;
     }
-    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment.get()) +
-                                  met_light(s, scene_.light, estimators_.directional.get()));
+    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment) +
+                                  met_light(s, scene_.light, estimators_.directional));
 }
 
-// The radiance a leaving path counts from `light`: all of it, unless the
+// The radiance a leaving path counts from `light`: all of it, unless an
 // estimator could have made the path since the last scattering too; then
 // none (LightHits::Excluded) or its balance-heuristic share: r_l is the
 // estimator's density of the scattering's direction relative to the phase
 // function's (the events since the scattering, null collisions and the
-// refraction, scaled both strategies' densities alike).
+// specular chain, scaled both strategies' densities alike). The estimators'
+// path classes are disjoint: at most one has a density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
-                               const LightEstimator* estimator) const {
+                               const std::vector<std::unique_ptr<LightEstimator>>& estimators) const {
+    using Since = PathState::Since;
     const Spectrum L = light.radiance_toward(s.d);
     if (!(max_component(L) > 0.f)) return Spectrum(0.f);
-    if (!estimator || s.since == PathState::Since::Other) return L;
+    if (estimators.empty() || s.since == Since::Other || s.since == Since::Reflected) return L;
     PathToLight path;
     path.vertex = s.scattered_at;
     path.direction = s.scattered_along;
     path.leaving = s.d;
-    if (s.since == PathState::Since::Refracted) path.exit = s.exit_point;
-    const float pdf_light = estimator->pdf(path, s.counters);
-    if (!(pdf_light > 0.f)) return L;
-    if (estimator->hits() == LightHits::Excluded) return Spectrum(0.f);
-    const Spectrum r_l = s.w.r_u * (pdf_light / s.phase_pdf);
-    return L / average(s.w.r_u + r_l);
+    path.chain = s.since == Since::Refracted          ? SpecularChain::Refraction
+                 : s.since == Since::ReflectedRefracted ? SpecularChain::ReflectionRefraction
+                                                        : SpecularChain::None;
+    path.reflection = s.reflection_point;
+    path.exit = s.exit_point;
+    for (const auto& estimator : estimators) {
+        const float pdf_light = estimator->pdf(path, s.counters);
+        if (!(pdf_light > 0.f)) continue;
+        if (estimator->hits() == LightHits::Excluded) return Spectrum(0.f);
+        const Spectrum r_l = s.w.r_u * (pdf_light / s.phase_pdf);
+        return L / average(s.w.r_u + r_l);
+    }
+    return L;
 }
 
 // Russian roulette after an interaction, only once the throughput has fallen

@@ -20,48 +20,66 @@ constexpr int kMaxProposals = 24;
 constexpr float kMinStep = 1.f / 1024.f;
 // The exterior direction is checked once the constraint's sine is below this.
 constexpr float kCheckExitBelow = 1e-3f;
+// A constraint this small whose exit is not the target has converged to a
+// root of the wrong kind (H antiparallel to the refraction's, the target
+// on the inner side): no step leads on from there.
+constexpr float kSpuriousBelow = 1e-5f;
+
+// The refraction out of interior direction w through outward unit shading
+// normal ns (w·ns = c > 0): with n = −ns facing the inside and η = 1 / ior,
+// ω = w/η + (c/η − c_t) n, c_t = √(1 − (1 − c²)/η²). Differentiated for a
+// change δw of the direction and δns of the normal: δn = −δns,
+// δc = −(δw·n + w·δn), δc_t = c δc / (η² c_t).
+struct OutwardRefraction {
+    float eta, c, ct;
+    glm::vec3 w, n;
+    glm::vec3 derivative(const glm::vec3& dw, const glm::vec3& dns) const {
+        const glm::vec3 dn = -dns;
+        const float dc = -(glm::dot(dw, n) + glm::dot(w, dn));
+        const float dct = c * dc / (eta * eta * ct);
+        return dw / eta + (dc / eta - dct) * n + (c / eta - ct) * dn;
+    }
+};
+
+std::optional<OutwardRefraction> outward_refraction(const Scene& scene, const glm::vec3& w, const glm::vec3& ns) {
+    OutwardRefraction r{1.f / scene.interface.ior, glm::dot(w, ns), 0.f, w, -ns};
+    r.ct = std::sqrt(std::max(0.f, 1.f - (1.f - r.c * r.c) / (r.eta * r.eta)));
+    if (!(r.ct > 0.f)) return std::nullopt;  // grazing: the map is singular
+    return r;
+}
+
+// Solid angle: the exterior directions' spanned by their derivatives along
+// two orthonormal tangents of a triangle's plane, over the interior solid
+// angle per unit area of that plane, |w·n_g| / r².
+float solid_angle_ratio(const glm::vec3& exterior, const glm::vec3 (&d_exterior)[2], float w_dot_ng, float r) {
+    glm::vec3 b1, b2;
+    orthonormal_basis(exterior, b1, b2);
+    const float det_out = glm::dot(b1, d_exterior[0]) * glm::dot(b2, d_exterior[1]) -
+                          glm::dot(b1, d_exterior[1]) * glm::dot(b2, d_exterior[0]);
+    return std::abs(det_out) / (w_dot_ng / (r * r));
+}
 
 // Refraction out through `hit`, reached from p along unit w, with the
-// Jacobian |dω/dw|. With n the unit shading normal facing p (the inward one)
-// and η = 1 / ior, the exit is ω = w/η + (c/η − c_t) n, c = −w·n,
-// c_t = √(1 − (1 − c²)/η²); differentiated along a tangent step δy of y:
-// δw = (δy − w (w·δy)) / r, δn from the mesh, δc = −(δw·n + w·δn),
-// δc_t = c δc / (η² c_t).
+// Jacobian |dω/dw|: along a tangent step δy of y, δw = (δy − w (w·δy)) / r.
 std::optional<RefractedExit> exit_at(const Scene& scene, const glm::vec3& w, const SurfaceHit& hit) {
     const glm::vec3& ng = hit.geometric_normal;
     const glm::vec3& ns = hit.shading_normal;
     if (!(glm::dot(w, ng) > 0.f) || !(glm::dot(w, ns) > 0.f)) return std::nullopt;
     const BoundaryTransmission out = boundary_transmission(scene.interface, w, ns, false);
     if (!(out.weight > 0.f)) return std::nullopt;  // total internal reflection, or a mirror
+    const auto refraction = outward_refraction(scene, w, ns);
+    if (!refraction) return std::nullopt;
     RefractedExit e;
     e.hit = hit;
     e.direction = w;
     e.exterior = out.direction;
     e.transmission = out.weight;
-
-    const float eta = 1.f / scene.interface.ior;
-    const glm::vec3 n = -ns;
-    const float c = glm::dot(w, ns);
-    const float ct = std::sqrt(std::max(0.f, 1.f - (1.f - c * c) / (eta * eta)));
-    if (!(ct > 0.f)) return std::nullopt;  // grazing: the map is singular
     const SurfaceDifferential sd = scene.boundary->differential(hit);
     const float r = hit.t;
     glm::vec3 d_exterior[2];
-    for (int k = 0; k < 2; ++k) {
-        const glm::vec3 dw = (sd.tangent[k] - w * glm::dot(w, sd.tangent[k])) / r;
-        const glm::vec3 dn = -sd.dn[k];
-        const float dc = -(glm::dot(dw, n) + glm::dot(w, dn));
-        const float dct = c * dc / (eta * eta * ct);
-        d_exterior[k] = dw / eta + (dc / eta - dct) * n + (c / eta - ct) * dn;
-    }
-    // Solid angle: exterior per unit area of the triangle's plane, over the
-    // interior solid angle per unit area, |w·n_g| / r².
-    glm::vec3 b1, b2;
-    orthonormal_basis(e.exterior, b1, b2);
-    const float det_out = glm::dot(b1, d_exterior[0]) * glm::dot(b2, d_exterior[1]) -
-                          glm::dot(b1, d_exterior[1]) * glm::dot(b2, d_exterior[0]);
-    const float det_in = glm::dot(w, ng) / (r * r);
-    e.jacobian = std::abs(det_out) / det_in;
+    for (int k = 0; k < 2; ++k)
+        d_exterior[k] = refraction->derivative((sd.tangent[k] - w * glm::dot(w, sd.tangent[k])) / r, sd.dn[k]);
+    e.jacobian = solid_angle_ratio(e.exterior, d_exterior, glm::dot(w, ng), r);
     if (!(e.jacobian > 0.f) || !std::isfinite(e.jacobian)) return std::nullopt;
     return e;
 }
@@ -175,6 +193,211 @@ std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm:
     }
     if (cur)
         if (const auto exit = converged(scene, p, *cur, target)) return exit;
+    ++counters.manifold_failures;
+    return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------
+// Two vertices: an internal reflection at y1, then the refraction out at y2.
+
+namespace {
+
+// A point of the two-vertex walk: the chain traced from p along w, the
+// refraction constraint at y2 (as WalkPoint's) and its derivatives along y1's
+// triangle tangents, and what the Jacobian needs: δd and δn_s at y2 per
+// tangent. Along a tangent step δy1 (r1 = |y1 − p|, n1 the shading normal):
+//   δw  = (δy1 − w (w·δy1)) / r1
+//   δd  = δw − 2 [(δw·n1 + w·δn1) n1 + (w·n1) δn1]     (d = w − 2 (w·n1) n1)
+//   δy2 = v − d (v·n_g2) / (d·n_g2),  v = δy1 + r2 δd   (y2 stays on its plane)
+//   δn2 from δy2's components along y2's tangents.
+struct ChainPoint {
+    SurfaceHit first, second;  // y1 (t from p) and y2 (t from y1's spawn point)
+    glm::vec3 y1{0.f}, y2{0.f};
+    glm::vec3 w{0.f}, d{0.f};
+    float error = 0.f;
+    glm::vec3 tangent[2];
+    float c[2];
+    float a[2][2];
+    glm::vec3 dd[2], dn2[2];
+};
+
+// The chain's first vertex along w from p, and the reflected ray's hit.
+// Steps that stay on the previous point's triangles are intersected with
+// those alone (late Newton steps are small); converged chains are checked
+// against the whole mesh.
+bool trace_chain(const Scene& scene, const glm::vec3& p, const glm::vec3& w, ChainPoint& cp,
+                 const ChainPoint* previous) {
+    std::optional<SurfaceHit> first;
+    if (previous) first = scene.boundary->intersect_triangle(p, w, previous->first.triangle);
+    if (!first) first = scene.boundary->intersect(p, w, 0.f, kInfinity);
+    if (!first || !(glm::dot(w, first->geometric_normal) > 0.f) || !(glm::dot(w, first->shading_normal) > 0.f))
+        return false;
+    const glm::vec3 d = reflect(w, first->shading_normal);
+    if (!(glm::dot(d, first->geometric_normal) < 0.f)) return false;  // the reflection would leave
+    const glm::vec3 y1 = p + first->t * w;
+    const Scene::Spawn spawn = scene.spawn_inside(y1, first->geometric_normal, d);
+    std::optional<SurfaceHit> second;
+    if (previous) second = scene.boundary->intersect_triangle(spawn.origin, d, previous->second.triangle);
+    if (!second) second = scene.boundary->intersect(spawn.origin, d, spawn.query_from, kInfinity);
+    if (!second || !(glm::dot(d, second->geometric_normal) > 0.f) || !(glm::dot(d, second->shading_normal) > 0.f))
+        return false;
+    cp.first = *first;
+    cp.second = *second;
+    cp.y1 = y1;
+    cp.y2 = spawn.origin + second->t * d;
+    cp.w = w;
+    cp.d = d;
+    return true;
+}
+
+void chain_derivatives(const Scene& scene, ChainPoint& cp) {
+    const glm::vec3& n1 = cp.first.shading_normal;
+    const glm::vec3& ng2 = cp.second.geometric_normal;
+    const SurfaceDifferential s1 = scene.boundary->differential(cp.first);
+    const SurfaceDifferential s2 = scene.boundary->differential(cp.second);
+    const float r1 = cp.first.t, r2 = cp.second.t;
+    const float wn = glm::dot(cp.w, n1);
+    for (int k = 0; k < 2; ++k) {
+        const glm::vec3& dy1 = s1.tangent[k];
+        cp.tangent[k] = dy1;
+        const glm::vec3 dw = (dy1 - cp.w * glm::dot(cp.w, dy1)) / r1;
+        const glm::vec3& dn1 = s1.dn[k];
+        cp.dd[k] = dw - 2.f * ((glm::dot(dw, n1) + glm::dot(cp.w, dn1)) * n1 + wn * dn1);
+        const glm::vec3 v = dy1 + r2 * cp.dd[k];
+        const glm::vec3 dy2 = v - cp.d * (glm::dot(v, ng2) / glm::dot(cp.d, ng2));
+        cp.dn2[k] = s2.dn[0] * glm::dot(dy2, s2.tangent[0]) + s2.dn[1] * glm::dot(dy2, s2.tangent[1]);
+    }
+}
+
+// The refraction constraint at y2 toward `target` (WalkPoint's) and its
+// derivatives along y1's tangents: δC = (−η δd) × n2 + H × δn2.
+void chain_constraint(const Scene& scene, const glm::vec3& target, ChainPoint& cp) {
+    const float eta = scene.interface.ior;
+    const glm::vec3& n2 = cp.second.shading_normal;
+    const glm::vec3 H = target - eta * cp.d;
+    const glm::vec3 C = glm::cross(H, n2);
+    cp.error = glm::length(C) / std::max(glm::length(H), 1e-12f);
+    glm::vec3 b[2];
+    orthonormal_basis(n2, b[0], b[1]);
+    for (int k = 0; k < 2; ++k) {
+        const glm::vec3 dC = glm::cross(-eta * cp.dd[k], n2) + glm::cross(H, cp.dn2[k]);
+        for (int j = 0; j < 2; ++j) cp.a[j][k] = glm::dot(b[j], dC);
+    }
+    for (int j = 0; j < 2; ++j) cp.c[j] = glm::dot(b[j], C);
+}
+
+std::optional<ChainPoint> chain_point(const Scene& scene, const glm::vec3& p, const glm::vec3& w,
+                                      const glm::vec3& target, const ChainPoint* previous = nullptr) {
+    ChainPoint cp;
+    if (!trace_chain(scene, p, w, cp, previous)) return std::nullopt;
+    chain_derivatives(scene, cp);
+    chain_constraint(scene, target, cp);
+    return cp;
+}
+
+// The exit of a traced chain: the weights of both events and |dω/dw| (the
+// exterior direction's derivative through δd and δn2, over the interior
+// solid angle per unit area of y1's plane).
+std::optional<ReflectedExit> chain_exit(const Scene& scene, const ChainPoint& cp) {
+    const glm::vec3& ns2 = cp.second.shading_normal;
+    const BoundaryTransmission out = boundary_transmission(scene.interface, cp.d, ns2, false);
+    if (!(out.weight > 0.f)) return std::nullopt;
+    const float reflectance = 1.f - boundary_transmission(scene.interface, cp.w, cp.first.shading_normal, false).weight;
+    const auto refraction = outward_refraction(scene, cp.d, ns2);
+    if (!refraction || !(reflectance > 0.f)) return std::nullopt;
+    ReflectedExit e;
+    e.reflection = cp.first;
+    e.exit = cp.second;
+    e.direction = cp.w;
+    e.reflected = cp.d;
+    e.exterior = out.direction;
+    e.weight = reflectance * out.weight;
+    e.reflection_point = cp.y1;
+    e.exit_point = cp.y2;
+    glm::vec3 d_exterior[2];
+    for (int k = 0; k < 2; ++k) d_exterior[k] = refraction->derivative(cp.dd[k], cp.dn2[k]);
+    e.jacobian = solid_angle_ratio(e.exterior, d_exterior, glm::dot(cp.w, cp.first.geometric_normal), cp.first.t);
+    if (!(e.jacobian > 0.f) || !std::isfinite(e.jacobian)) return std::nullopt;
+    return e;
+}
+
+// The seed: the target direction refracted inward where it meets the
+// surface seen from p gives the light's direction d_in inside; the wall it
+// travels toward from p (hit along d_in, tangent plane at q, outward normal
+// n) reflects it back to p from y1 = p' − s d_in, p' = p − 2 ((p − q)·n) n
+// the mirror image of p and s where that line meets the plane. Exact for
+// flat surfaces.
+std::optional<glm::vec3> reflected_seed(const Scene& scene, const glm::vec3& p, const glm::vec3& target) {
+    const auto in = seed_direction(scene, p, target);
+    if (!in) return std::nullopt;
+    const glm::vec3 d_in = -*in;
+    const auto wall = scene.boundary->intersect(p, d_in, 0.f, kInfinity);
+    if (!wall) return std::nullopt;
+    const glm::vec3& n = wall->geometric_normal;
+    const float toward = glm::dot(d_in, n);
+    if (!(toward > 0.f)) return std::nullopt;
+    const glm::vec3 q = p + wall->t * d_in;
+    const glm::vec3 image = p - 2.f * glm::dot(p - q, n) * n;
+    const glm::vec3 y1 = image - (glm::dot(image - q, n) / toward) * d_in;
+    const glm::vec3 to = y1 - p;
+    const float len = glm::length(to);
+    if (!(len > 0.f)) return std::nullopt;
+    return to / len;
+}
+
+// A converged chain's exit, if it leaves within the tolerance of the target
+// and its legs meet no other surface first.
+std::optional<ReflectedExit> chain_converged(const Scene& scene, const glm::vec3& p, const ChainPoint& cp,
+                                             const glm::vec3& target) {
+    const auto e = chain_exit(scene, cp);
+    if (!e || !(glm::length(e->exterior - target) < kManifoldTolerance)) return std::nullopt;
+    ChainPoint whole;
+    if (!trace_chain(scene, p, cp.w, whole, nullptr) || whole.first.triangle != cp.first.triangle ||
+        whole.second.triangle != cp.second.triangle)
+        return std::nullopt;
+    return e;
+}
+
+}  // namespace
+
+std::optional<ReflectedExit> reflected_exit(const Scene& scene, const glm::vec3& p, const glm::vec3& w) {
+    ChainPoint cp;
+    if (!trace_chain(scene, p, w, cp, nullptr)) return std::nullopt;
+    chain_derivatives(scene, cp);
+    return chain_exit(scene, cp);
+}
+
+// Newton's method on y1, as solve_refracted_exit's on y: each step within
+// y1's triangle plane, projected back onto the mesh by a ray from p, the
+// chain traced on from there; a step that does not lower the constraint is
+// halved.
+std::optional<ReflectedExit> solve_reflected_exit(const Scene& scene, const glm::vec3& p,
+                                                  const glm::vec3& target, PathCounters& counters) {
+    ++counters.manifold_walks;
+    const auto seed = reflected_seed(scene, p, target);
+    std::optional<ChainPoint> cur = seed ? chain_point(scene, p, *seed, target) : std::nullopt;
+    float step = 1.f;
+    for (int proposal = 0; cur && proposal < kMaxProposals; ++proposal) {
+        if (cur->error < kCheckExitBelow) {
+            if (const auto exit = chain_converged(scene, p, *cur, target)) return exit;
+            if (cur->error < kSpuriousBelow) break;
+        }
+        const float det = cur->a[0][0] * cur->a[1][1] - cur->a[0][1] * cur->a[1][0];
+        if (!(std::abs(det) > 0.f)) break;
+        const float x0 = -(cur->a[1][1] * cur->c[0] - cur->a[0][1] * cur->c[1]) / det;
+        const float x1 = -(cur->a[0][0] * cur->c[1] - cur->a[1][0] * cur->c[0]) / det;
+        const glm::vec3 to = cur->y1 + step * (x0 * cur->tangent[0] + x1 * cur->tangent[1]) - p;
+        const float len = glm::length(to);
+        std::optional<ChainPoint> next = len > 0.f ? chain_point(scene, p, to / len, target, &*cur) : std::nullopt;
+        if (next && next->error < cur->error) {
+            cur = next;
+            step = std::min(1.f, 2.f * step);
+        } else if ((step *= 0.5f) < kMinStep) {
+            break;
+        }
+    }
+    if (cur)
+        if (const auto exit = chain_converged(scene, p, *cur, target)) return exit;
     ++counters.manifold_failures;
     return std::nullopt;
 }

@@ -276,6 +276,7 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         {"render --mesh " + kBlob + medium + " --out " + dir.file("no/such/r.exr"), "does not exist"},
         {"render --mesh " + kBlob + medium + " --spp 0" + out, "--spp"},
         {"render --mesh " + kBlob + medium + " --light-nee sometimes" + out, "--light-nee"},
+        {"render --mesh " + kBlob + medium + " --light-chain 3" + out, "--light-chain"},
         {"render --mesh " + kBlob + medium + " --threads -3" + out, "--threads"},
         // Every output's folder is checked before the first is written.
         {"render --mesh " + kBlob + medium + out + " --png " + dir.file("no/r.png"), "no/r.png"},
@@ -692,6 +693,16 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK(bad.code == 2);
     CHECK(lines(bad.err) == 1);
     CHECK_THAT(bad.err, Catch::Contains("bad.json"));
+    // The job carries --light-chain; a value it cannot be is refused by name.
+    std::stringstream report;
+    report << std::ifstream(dir.file("o/report.json")).rdbuf();
+    std::string text = report.str();
+    const std::string key = "\"light_chain\": \"auto\"";
+    REQUIRE(text.find(key) != std::string::npos);
+    std::ofstream(dir.file("chain.json")) << text.replace(text.find(key), key.size(), "\"light_chain\": 5");
+    const Result chain = run(dir, "render --job " + dir.file("chain.json") + " --out " + dir.file("y.exr"));
+    CHECK(chain.code == 2);
+    CHECK_THAT(chain.err, Catch::Contains("settings.light_chain"));
 }
 
 TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {

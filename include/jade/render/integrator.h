@@ -63,11 +63,24 @@ const char* to_string(LightThroughBoundary estimator);
 // "auto", "manifold", "cone" or "off"; "true" and "false" (what older jobs
 // stored) mean auto and off. Throws jade::Error naming --light-nee.
 LightThroughBoundary parse_light_through_boundary(const std::string& name);
+// The specular chains through the boundary along which the light
+// estimators reach a light (render/light_estimators/manifold.h): one
+// refraction (One), or also one internal reflection before it (Two). Auto
+// takes Two for a delta light, which nothing else reaches along that chain,
+// and for a disc light small enough for the walk (under 10°, unless the
+// cone is asked for), and One otherwise: on the demo at equal time the
+// second chain lowered the error at 5° and raised it under the 20° disc and
+// the sunrise sky (README, "How the lights reach the inside").
+enum class LightChain { Auto, One, Two };
+const char* to_string(LightChain chain);
+// "auto", "1" or "2". Throws jade::Error naming --light-chain.
+LightChain parse_light_chain(const std::string& name);
 
 struct IntegratorSettings {
     int max_depth = 4096;  // surface + medium interactions; counted when reached
     int rr_depth = 8;      // interactions before Russian roulette starts
     LightThroughBoundary light_through_boundary = LightThroughBoundary::Auto;
+    LightChain light_chain = LightChain::Auto;
     // Cross spheres of homogeneous medium in one step where they fit
     // (render/sphere_exit.h); off only to compare with collision-by-collision
     // tracking (tests, `bench stiff`).
@@ -111,7 +124,10 @@ private:
     std::optional<BoundarySample> enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
                                         const glm::vec3& n, float u) const;
     void escape(PathState& s) const;
-    Spectrum met_light(PathState& s, const DistantLight& light, const LightEstimator* estimator) const;
+    void record_specular_event(PathState& s, const glm::vec3& p, bool entering, bool reflected,
+                               bool inside_after) const;
+    Spectrum met_light(PathState& s, const DistantLight& light,
+                       const std::vector<std::unique_ptr<LightEstimator>>& estimators) const;
     bool survive(PathState& s) const;
 
     const Scene& scene_;

@@ -16,8 +16,10 @@
 //   manifold        through a smooth dielectric: a direction drawn from the
 //                   light (a point of the disc, the delta light's one
 //                   direction, or the environment's importance sampling),
-//                   and the refraction path to it found by Newton's method
-//                   on the surface (render/specular_manifold.h)
+//                   and the specular chain to it (one refraction, or an
+//                   internal reflection and then the refraction) found by
+//                   Newton's method on the surface
+//                   (render/specular_manifold.h)
 // Without one, a light is found only by paths that meet it.
 
 #include "jade/core/random.h"
@@ -30,6 +32,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace jade {
 
@@ -54,13 +57,20 @@ struct LightSample {
     bool is_delta() const { return !(pdf > 0.f); }
 };
 
+// The specular events a path meets between a medium vertex and the light:
+// none (index-matched crossings only), one refraction out, or one internal
+// reflection and then the refraction out. The estimators' path classes.
+enum class SpecularChain { None, Refraction, ReflectionRefraction };
+
 // A phase-sampled path from medium vertex `vertex` along `direction` that
 // left the scene along `leaving` with nothing on the way but null
-// collisions and either index-matched crossings (no `exit`; leaving =
-// direction) or exactly one refraction out, at `exit`.
+// collisions and the specular events of `chain` (for None, leaving =
+// direction).
 struct PathToLight {
     glm::vec3 vertex{0.f}, direction{0.f}, leaving{0.f};
-    std::optional<glm::vec3> exit;
+    SpecularChain chain = SpecularChain::None;
+    glm::vec3 reflection{0.f};  // ReflectionRefraction: where it reflected inside
+    glm::vec3 exit{0.f};        // Refraction, ReflectionRefraction: where it refracted out
 };
 
 class LightEstimator {
@@ -83,11 +93,13 @@ protected:
 };
 
 struct IntegratorSettings;
-// The estimators a scene calls for: for its directional light and for its
-// environment (either may be null: that light is found by paths that meet
-// it). The scene must outlive them.
+// The estimators a scene calls for, for its directional light and for its
+// environment (none: that light is found by paths that meet it). The path
+// classes of one light's estimators are disjoint, so each path is weighed
+// by MIS against phase sampling and at most one estimator. The scene must
+// outlive them.
 struct LightEstimators {
-    std::unique_ptr<LightEstimator> directional, environment;
+    std::vector<std::unique_ptr<LightEstimator>> directional, environment;
 };
 LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings);
 

@@ -1,6 +1,8 @@
 #pragma once
-// The one-refraction specular manifold (Hanika et al. 2015, "Manifold next
-// event estimation"; docs/design.md, "Light estimators"): from a medium
+// Specular manifolds through the object's boundary (Hanika et al. 2015,
+// "Manifold next event estimation"; docs/design.md, "Light estimators").
+//
+// One refraction: from a medium
 // vertex p inside the object, the point y on the boundary where a straight
 // ray from p refracts out into a given exterior direction ω. No ray query
 // finds y: it is a root of a smooth function of the surface position,
@@ -49,5 +51,39 @@ std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm:
 
 // |ω_out − target| at which the solver stops (a chord length, ≈ radians).
 constexpr float kManifoldTolerance = 2e-5f;
+
+// Two vertices: the ray from p meets the surface at y1, reflects inside
+// (the interface's internal reflection: total, or the split or Fresnel
+// share), meets it again at y2 and refracts out. Light that scatters near a
+// wall and leaves after one bounce off the inside of the surface (measured
+// on the demo the largest share of the error the one-refraction walk left,
+// docs/design.md, "Light estimators"). The unknown is y1 alone (y2 follows
+// by tracing the reflected ray); the constraint is the refraction's at y2,
+// as above, differentiated through the reflection by the chain rule.
+struct ReflectedExit {
+    SurfaceHit reflection;      // y1: where the ray from p meets the surface (t from p)
+    SurfaceHit exit;            // y2: where the reflected ray meets it (t from y1)
+    glm::vec3 direction{0.f};   // interior direction p → y1 (unit)
+    glm::vec3 reflected{0.f};   // y1 → y2 (unit)
+    glm::vec3 exterior{0.f};    // the refracted direction it leaves along
+    float jacobian = 0.f;       // |dω_out/dw| at w = direction, through both vertices
+    float weight = 0.f;         // the reflection's weight at y1 times the transmission at y2
+    glm::vec3 reflection_point{0.f}, exit_point{0.f};  // y1, y2
+};
+
+// The chain of interior direction w from p: reflected at the first surface
+// it meets, refracted out at the second; none when it does not go that way
+// through the smoothly shaded surface (the reflection leaves the object, a
+// shading normal faces away, total internal reflection at y2).
+std::optional<ReflectedExit> reflected_exit(const Scene& scene, const glm::vec3& p,
+                                            const glm::vec3& w);
+
+// The interior direction from p whose two-vertex chain leaves along
+// `target` (unit): Newton's method on y1, seeded deterministically from
+// (p, target) by the mirror image of p in the wall the light, refracted in,
+// travels toward (exact for flat surfaces); counted in the same counters as
+// the one-refraction walk. None when it does not converge.
+std::optional<ReflectedExit> solve_reflected_exit(const Scene& scene, const glm::vec3& p,
+                                                  const glm::vec3& target, PathCounters& counters);
 
 }  // namespace jade

@@ -43,7 +43,7 @@ std::optional<LightSample> RefractedConeEstimator::sample(const glm::vec3& p, fl
 }
 
 float RefractedConeEstimator::pdf(const PathToLight& path, PathCounters&) const {
-    if (!path.exit) return 0.f;
+    if (path.chain != SpecularChain::Refraction) return 0.f;
     const auto c = cone(path.vertex);
     return c ? c->pdf(path.direction) : 0.f;
 }

@@ -16,7 +16,7 @@ std::optional<LightSample> ShadowRayEstimator::sample(const glm::vec3& p, float 
 }
 
 float ShadowRayEstimator::pdf(const PathToLight& path, PathCounters&) const {
-    return path.exit ? 0.f : light_.pdf(path.leaving);
+    return path.chain == SpecularChain::None ? light_.pdf(path.leaving) : 0.f;
 }
 
 }  // namespace jade

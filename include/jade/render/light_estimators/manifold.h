@@ -1,19 +1,21 @@
 #pragma once
 // Manifold next-event estimation of a light at infinity through a smooth
-// dielectric boundary (Hanika et al. 2015), for one refraction: an exterior
-// direction ω is drawn from the light (a point of the directional light's
-// disc, the delta light's one direction, or the environment image's
-// importance sampling), and the interior direction w from the vertex that leaves along
-// ω is found by Newton's method on the surface (render/specular_manifold.h).
-// Its density at the vertex is the light's density of ω times |dω/dw|, so the
-// sample is weighed against phase sampling by MIS exactly like the cone's
-// (a phase-sampled path that leaves by one refraction counts the light with
-// the density the solver would have given its direction, 0 when the solver
-// does not find that exit). A delta light has only this estimator: its
-// estimate is E · T / |dω/dw|, unbiased wherever the refraction path from a
-// vertex is unique (convex parts of the surface; a concave surface seen
-// from inside can refract two paths toward one direction, and the solver
-// finds one of them: the walks that fail are counted).
+// dielectric boundary (Hanika et al. 2015), along one specular chain: one
+// refraction out, or one internal reflection and then the refraction out.
+// An exterior direction ω is drawn from the light (a point of the
+// directional light's disc, the delta light's one direction, or the
+// environment image's importance sampling), and the interior direction w
+// from the vertex whose chain leaves along ω is found by Newton's method on
+// the surface (render/specular_manifold.h). Its density at the vertex is
+// the light's density of ω times |dω/dw|, so the sample is weighed against
+// phase sampling by MIS (a phase-sampled path that leaves by the same chain
+// counts the light with the density the solver would have given its
+// direction, 0 when the solver does not find that chain). A delta light has
+// only these estimators: the estimate is E · weight / |dω/dw|, unbiased
+// wherever the chain from a vertex is unique (for one refraction, convex
+// parts of the surface; a concave surface seen from inside can refract two
+// paths toward one direction, and the solver finds one of them: the walks
+// that fail are counted).
 
 #include "jade/render/light_estimator.h"
 
@@ -21,15 +23,26 @@ namespace jade {
 
 class ManifoldEstimator final : public LightEstimator {
 public:
-    ManifoldEstimator(const Scene& scene, const DistantLight& light)
-        : LightEstimator(light), scene_(scene) {}
+    // chain: Refraction or ReflectionRefraction.
+    ManifoldEstimator(const Scene& scene, const DistantLight& light, SpecularChain chain);
     std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
                                       PathCounters& counters) const override;
     float pdf(const PathToLight& path, PathCounters& counters) const override;
     LightHits hits() const override { return LightHits::Weighted; }
 
 private:
+    // The chain from p that leaves along `target`, as the solver finds it.
+    // (For one refraction, reflection = exit and the second leg is empty.)
+    struct Found {
+        glm::vec3 direction, reflection, exit, exterior, exit_normal;
+        float jacobian, weight, first_leg, second_leg;
+        Spectrum transmittance(const Scene& scene, const glm::vec3& p, SampleStream& rng,
+                               PathCounters& counters) const;
+    };
+    std::optional<Found> solve(const glm::vec3& p, const glm::vec3& target, PathCounters& counters) const;
+
     const Scene& scene_;
+    SpecularChain chain_;
 };
 
 }  // namespace jade
