@@ -136,7 +136,7 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);
     write_text_file(out("fit.csv"), fit_csv(res.fit.records));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);
-    const RgbImage8 conv = convergence_plot(res.final_render.passes);
+    const RgbImage8 conv = convergence_plot(res.final_render.passes, "final render");
     write_image_u8(out("convergence.png"), conv.width, conv.height, 3, conv.pixels);
     const RgbImage8 fitp = fit_plot(res.fit.records, res.fit.limits.tolerance);
     write_image_u8(out("fit.png"), fitp.width, fitp.height, 3, fitp.pixels);

@@ -172,7 +172,8 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         result.written.push_back(csv);
     }
     if (!plot.empty()) {
-        const RgbImage8 picture = convergence_plot(result.render.passes);
+        const RgbImage8 picture =
+            convergence_plot(result.render.passes, fs::path(job.out).filename().string());
         write_image_u8(plot, picture.width, picture.height, 3, picture.pixels);
         result.written.push_back(plot);
     }

@@ -45,9 +45,9 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     return s;
 }
 
-RgbImage8 convergence_plot(const std::vector<PassRecord>& passes) {
+RgbImage8 convergence_plot(const std::vector<PassRecord>& passes, const std::string& what) {
     PlotSpec spec;
-    spec.title = "final render: estimated relative error against time";
+    spec.title = what + ": estimated relative error against time";
     spec.x_label = "seconds";
     spec.y_label = "error";
     spec.log_x = spec.log_y = true;
@@ -62,7 +62,7 @@ RgbImage8 convergence_plot(const std::vector<PassRecord>& passes) {
         }
     }
     // 1/sqrt(t) through the last pass with a finite error.
-    PlotSeries ideal{{}, {}, Rgb8{170, 170, 170}, true, "1/sqrt(t), through the last"};
+    PlotSeries ideal{{}, {}, Rgb8{170, 170, 170}, true, "1/sqrt(t) through the last pass"};
     for (auto it = passes.rbegin(); it != passes.rend(); ++it)
         if (std::isfinite(it->estimated_error) && it->seconds > 0) {
             for (const PassRecord& p : passes)

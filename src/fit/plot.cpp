@@ -12,6 +12,10 @@ namespace jade {
 namespace {
 
 constexpr int kText = 13;
+// DejaVu Sans Mono's advance width, 0.602 em (io/text's font), which the
+// renderer's hinting rounds up to whole pixels (8 px at 13 px): a label's
+// width, for placing the legend so that its longest label fits.
+constexpr double kMonoAdvance = 0.602;
 constexpr int kLeft = 70, kRight = 20, kTop = 46, kBottom = 48;  // margins around the plot area
 const Rgb8 kBackground{40, 40, 40};
 const Rgb8 kInk{225, 225, 225};
@@ -125,6 +129,9 @@ RgbImage8 line_plot(const PlotSpec& spec) {
     for (double r : spec.y_rules)
         if (ay.usable(r)) line(img, ax.p0, ay.pixel(r), ax.p1, ay.pixel(r), Rgb8{150, 150, 150}, true, 0);
     int legend_y = kTop + kText;
+    std::size_t longest = 0;
+    for (const PlotSeries& s : spec.series) longest = std::max(longest, s.label.size());
+    const int lx = spec.width - kRight - 34 - int(std::ceil(kMonoAdvance * kText)) * int(longest);
     for (const PlotSeries& s : spec.series) {
         double phase = 0;
         bool have = false;
@@ -138,7 +145,6 @@ RgbImage8 line_plot(const PlotSpec& spec) {
             px = x, py = y, have = true;
         }
         if (s.label.empty()) continue;
-        const int lx = spec.width - kRight - 250;
         line(img, lx, legend_y - 4, lx + 24, legend_y - 4, s.colour, s.dashed, 0);
         draw_text(img, lx + 30, legend_y, s.label, kText, kInk);
         legend_y += kText + 6;

@@ -5,6 +5,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <string>
+
 using namespace jade;
 
 namespace {
@@ -68,4 +71,27 @@ TEST_CASE("log axes: a 1/sqrt(t) series is a straight line, and non-positive poi
     const Rgb8 grey{150, 150, 150};
     CHECK(has_colour(band, 100, 46, 600, 100, grey));   // the +1 rule near the top
     CHECK(has_colour(band, 100, 320, 600, 372, grey));  // the -1 rule near the bottom
+}
+
+TEST_CASE("the legend moves left so that its longest label ends inside the picture", "[plot]") {
+    // DejaVu Sans Mono at 13 px advances 8 px a character (0.602 em, hinted
+    // to whole pixels): a 48-character label is 384 px wide, more than the
+    // 250 px a fixed legend once left.
+    const Rgb8 green{20, 220, 20};
+    PlotSpec spec;
+    spec.series = {PlotSeries{{1, 2}, {1, 2}, green, false, std::string(48, 'W')}};
+    const RgbImage8 img = line_plot(spec);
+    const std::uint8_t* corner = &img.pixels[(std::size_t(0) * img.width + img.width - 1) * 3];
+    const Rgb8 background{corner[0], corner[1], corner[2]};
+    // The right margin beside the legend's line of text is untouched.
+    bool margin_clear = true;
+    for (int y = 40; y < 70; ++y)
+        for (int x = img.width - 18; x < img.width; ++x) {
+            const std::uint8_t* p = &img.pixels[(std::size_t(y) * img.width + x) * 3];
+            margin_clear = margin_clear && p[0] == background[0] && p[1] == background[1] && p[2] == background[2];
+        }
+    CHECK(margin_clear);
+    // Its sample line sits left of the text, 34 px plus the text's width from the margin.
+    const int lx = img.width - 20 - 34 - 8 * 48;
+    CHECK(has_colour(img, lx, 53, lx + 24, 57, green));
 }

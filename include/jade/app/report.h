@@ -21,8 +21,9 @@ std::string fit_csv(const std::vector<FitRecord>& rows);
 // convergence.png: the render's estimated relative error (and RMSE against a
 // reference, when there is one) against seconds, log–log, with the 1/√t line
 // through the last pass: where the error falls more slowly than 1/√t, the
-// points rise above it.
-RgbImage8 convergence_plot(const std::vector<PassRecord>& passes);
+// points rise above it. `what` names the render in the title (the
+// pipeline's "final render", or the output file of `render`).
+RgbImage8 convergence_plot(const std::vector<PassRecord>& passes, const std::string& what);
 
 // fit.png: ΔA per channel for each fitting render (shading renders left
 // out), with the tolerance ±`tolerance` as rules.
