@@ -107,12 +107,23 @@ bool all_finite(const Film& f) {
     return true;
 }
 
+// Fresnel's reflectance of unpolarised light arriving from index 1 at cos_i
+// onto index n (the textbook equations; not the renderer's copy).
+double fresnel_unpolarised(double cos_i, double n) {
+    const double sin_t2 = (1.0 - cos_i * cos_i) / (n * n);
+    const double cos_t = std::sqrt(1.0 - sin_t2);
+    const double rs = (cos_i - n * cos_t) / (cos_i + n * cos_t), rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
 // Single scattering in a slab 0 ≤ z ≤ d (100 wide) under a delta light at
 // θ_o from the normal, seen straight down, isotropic phase, black
 // environment, with max_depth cutting every path after its one scattering.
 // With θ_i the light's interior angle (sin θ_o = η sin θ_i), c = cos θ_i,
 // and t = 1 − s the boundary's transmission weight (η = 1, t = 1
-// index-matched), a vertex at depth z below the top receives the beam
+// index-matched; for Fresnel, t² = the light's transmission in times the
+// camera ray's, s the floor's reflectance), a vertex at depth z below the
+// top receives the beam
 // E t cos θ_o / (η² c) e^(−σ_t z / c) (Snell's beam compression; the
 // radiance convention has no η² factor: docs/design.md, "Boundary"), and,
 // behind a dielectric, the same beam reflected off the floor with weight s,
@@ -134,8 +145,20 @@ RenderResult check_slab_single_scattering(BoundaryMode mode, double theta_o_degr
     s.light = DirectionalLight({float(std::sin(theta_o)), 0.f, float(std::cos(theta_o))}, irradiance, 0.f);
     RenderResult r = render_spp(s, camera_at({0, 0, 5}, {0, 0, 0}, 1, 32, {0, 1, 0}), 256, seed, max_depth);
     const bool matched = mode == BoundaryMode::None;
-    const double eta = matched ? 1.0 : s.interface.ior, t = matched ? 1.0 : 1.0 - s.interface.specular;
-    const double floor = matched ? 0.0 : s.interface.specular;
+    const double eta = matched ? 1.0 : s.interface.ior;
+    // The boundary's weights: the light's transmission in at θ_o, the
+    // camera ray's at normal incidence, and the floor's reflection inside at
+    // θ_i (Fresnel's equal to its outside one at θ_o by reciprocity).
+    double t_in = 1.0, t_out = 1.0, floor = 0.0;
+    if (mode == BoundaryMode::Split) {
+        t_in = t_out = 1.0 - s.interface.specular;
+        floor = s.interface.specular;
+    } else if (mode == BoundaryMode::Fresnel) {
+        floor = fresnel_unpolarised(std::cos(theta_o), eta);
+        t_in = 1.0 - floor;
+        t_out = 1.0 - fresnel_unpolarised(1.0, eta);
+    }
+    const double t = std::sqrt(t_in * t_out);
     const double theta_i = std::asin(std::sin(theta_o) / eta), ci = std::cos(theta_i);
     const double k = 1 + 1 / ci, k2 = 1 / ci - 1;
     Spectrum expect;
@@ -708,6 +731,12 @@ TEST_CASE("a delta light through a refracting slab: single scattering matches th
     // interactions (the camera ray's refraction in, one scattering).
     const RenderResult r = check_slab_single_scattering(BoundaryMode::Split, 35.0, 2, 3);
     CHECK(r.counters.manifold_failures == 0);
+    // Fresnel's weights, at a steeper light (the floor reflects 10.5 % at 60°).
+    // A few walks from vertices within rounding of the floor fail (7 of
+    // 148 282 measured); the analytic value is met regardless.
+    const RenderResult f = check_slab_single_scattering(BoundaryMode::Fresnel, 60.0, 2, 4);
+    INFO(f.counters.manifold_failures << " of " << f.counters.manifold_walks << " walks failed");
+    CHECK(f.counters.manifold_failures * 1000 < f.counters.manifold_walks);
 }
 
 namespace {
