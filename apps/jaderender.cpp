@@ -306,9 +306,9 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--light-nee", f.light_nee,
                    "Next-event estimation of the light through a refracting boundary: 'manifold' "
                    "(Newton's method finds the refraction toward a point of the light), 'cone' (a "
-                   "guided cone of directions), 'auto' (manifold below 10 degrees of light radius, "
-                   "cone above) or 'off' (only paths that refract out into the light's disc find "
-                   "it; same image, more noise). A delta light always uses 'manifold'. An "
+                   "guided cone of directions), 'auto' (manifold below 4 degrees of light radius, "
+                   "cone above; 10 degrees without --light-guide) or 'off' (only paths that refract "
+                   "out into the light's disc find it, no light guide either; same image, more noise). A delta light always uses 'manifold'. An "
                    "environment image is importance-sampled through the boundary by the walk "
                    "('off' turns that off too)")
         ->capture_default_str();
@@ -317,8 +317,15 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "estimated: '1' = one refraction out, '2' = also one internal reflection before it "
                    "(same image; more work per sample, less noise from light that leaves after a bounce "
                    "off the inside), 'auto' = '2' for a delta light (which nothing else reaches along "
-                   "that chain) and a light under 10 degrees in radius unless --light-nee is 'cone', "
-                   "'1' otherwise")
+                   "that chain); for a disc light the light guide's second chain, or without the guide "
+                   "'2' under 10 degrees in radius unless --light-nee is 'cone'; '1' = neither")
+        ->capture_default_str();
+    cmd.add_option("--light-guide", j.settings.integrator.light_guide,
+                   "For a disc light behind a refracting boundary, trace the light into the object before "
+                   "the render and record from which directions it arrives in each cell (straight in, "
+                   "after a reflection inside, after a reflection off the outside of another part); half "
+                   "the next-event directions are drawn from it (same image, less noise from light that "
+                   "comes in by faces the other estimators do not aim at); false: without it")
         ->capture_default_str();
     group_from(cmd, first, "Rendering");
 }

@@ -5,7 +5,8 @@ relative MSE of one render is the mean over covered pixels of
 (a - b)^2 / 2 / m^2, m = (a + b) / 2, on the mean of the three channels
 (pixels darker than 1e-4 left out). Usage: light_race.py RUNS RADIUS...
 Rows: each radius with --light-nee off, cone and manifold, and manifold with
---light-chain 2 (manifold2) (files r<radius>_<estimator>_s<seed>), then the
+--light-chain 2 (manifold2), all without the light guide, and the default
+with it (guided) (files r<radius>_<estimator>_s<seed>), then the
 sunrise sky with off, auto, and auto with --light-chain 2 (auto2)
 (sky_<estimator>_s<seed>).
 """
@@ -37,7 +38,7 @@ def rel_mse(stem):
 
 
 runs = sys.argv[1]
-rows = [(f"{r}°", f"r{r}", e) for r in sys.argv[2:] for e in ["off", "cone", "manifold", "manifold2"]]
+rows = [(f"{r}°", f"r{r}", e) for r in sys.argv[2:] for e in ["off", "cone", "manifold", "manifold2", "guided"]]
 rows += [("sky", "sky", e) for e in ["off", "auto", "auto2"]]
 print(f"{'light':>6} {'estimator':>9} {'rel. MSE':>9} {'spp':>6}")
 for label, case, estimator in rows:

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The light estimators through the boundary at equal time (README, "How the
 # lights reach the inside"): the demo's volume in the vase, 256², for each
-# light radius and each --light-nee (and the walk with --light-chain 2), and
+# light radius and each --light-nee without the light guide (and the walk with
+# --light-chain 2), and the default with the guide (guided), and
 # under Blender's sunrise HDR (light off) with the environment's walk off, on,
 # and on with both chains; two seeds each; prints the relative MSE per pixel
 # from the two renders' difference.
@@ -24,12 +25,18 @@ fi
 runs=$work/light-race
 mkdir -p "$runs"
 cp build/jaderender "$work/jaderender"
+# Without the light guide: disc hits only, the cone, the walk, the walk with
+# the second chain; then the default (auto, with the guide).
 for r in $radii; do
-    for e in off cone manifold manifold2; do
+    for e in off cone manifold manifold2 guided; do
+        case $e in
+            guided) flags=(--light-nee auto --light-chain auto --light-guide true) ;;
+            manifold2) flags=(--light-nee manifold --light-chain 2 --light-guide false) ;;
+            *) flags=(--light-nee "$e" --light-chain 1 --light-guide false) ;;
+        esac
         for seed in 1 2; do
             "$work/jaderender" render --job "$job" --width 256 --height 256 --spp 1000000 \
-                --time "$seconds" --light-radius "$r" --light-nee "${e%2}" --seed "$seed" \
-                --light-chain "$([ "$e" = manifold2 ] && echo 2 || echo 1)" \
+                --time "$seconds" --light-radius "$r" --seed "$seed" "${flags[@]}" \
                 --out "$runs/r${r}_${e}_s${seed}.exr" --png "" --convergence "" \
                 > "$runs/r${r}_${e}_s${seed}.log"
         done

@@ -124,11 +124,14 @@ struct Integrator::PathState {
     // estimators (PathToLight): only null collisions and index-matched
     // crossings (Straight), then exactly one refraction out (Refracted), or
     // one internal reflection (Reflected) and then the refraction out
-    // (ReflectedRefracted), or anything else (Other).
-    enum class Since { Other, Straight, Refracted, Reflected, ReflectedRefracted } since = Since::Other;
+    // (ReflectedRefracted), or the refraction out and a reflection off the
+    // outside (RefractedReflected, while enter() counts that reflection), or
+    // anything else (Other).
+    enum class Since { Other, Straight, Refracted, Reflected, ReflectedRefracted, RefractedReflected };
+    Since since = Since::Other;
     glm::vec3 scattered_at{0.f}, scattered_along{0.f};  // that scattering's vertex and direction
     float phase_pdf = 0.f;                              // and the phase function's density of it
-    glm::vec3 reflection_point{0.f};                    // where the path then reflected inside
+    glm::vec3 reflection_point{0.f};                    // where the path then reflected
     glm::vec3 exit_point{0.f};                          // where it refracted out
     int depth = 0, crossings = 0;
     glm::vec3 collision{0.f};  // where track() stopped at a real scattering
@@ -142,7 +145,7 @@ struct Integrator::PathState {
 };
 
 Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, std::uint64_t seed)
-    : scene_(scene), settings_(settings), estimators_(make_light_estimators(scene, settings)) {
+    : scene_(scene), settings_(settings), estimators_(make_light_estimators(scene, settings, seed)) {
     settings_.validate();
     if (!scene.boundary) throw Error("internal: a scene needs a boundary mesh");
     sphere_exits_ = sphere_exit_tables(scene, settings_, seed);
@@ -453,9 +456,17 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
                         !scene_.boundary->intersect(scene_.offset(p, ng, mirror), mirror, 0.f, kInfinity));
     if (!glint) return sample_boundary(scene_.interface, s.d, n, true, u);
     ++s.counters.shadow_rays;
-    // No light estimator makes a path that reflects off the outside.
+    // After one refraction out since the last scattering, the light's part
+    // is a path the guided estimator makes too (light_estimators/guided.h):
+    // weighed by MIS against it. No estimator makes any other path that
+    // reflects off the outside.
+    if (s.since == PathState::Since::Refracted) {
+        s.since = PathState::Since::RefractedReflected;
+        s.reflection_point = p;
+    }
     s.out.radiance += s.w.beta * (1.f - t.weight) *
-                      (scene_.environment.radiance_toward(mirror) + scene_.light.radiance_toward(mirror));
+                      (scene_.environment.radiance_toward(mirror) +
+                       met_light(s, scene_.light, estimators_.directional, mirror));
     if (u >= t.weight) return std::nullopt;
     return BoundarySample{t.direction, false};
 }
@@ -469,29 +480,32 @@ void Integrator::escape(PathState& s) const {
         s.out.backdrop_direction = s.d;
         return;
     }
-    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment) +
-                                  met_light(s, scene_.light, estimators_.directional));
+    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment, s.d) +
+                                  met_light(s, scene_.light, estimators_.directional, s.d));
 }
 
-// The radiance a leaving path counts from `light`: all of it, unless an
-// estimator could have made the path since the last scattering too; then
-// none (LightHits::Excluded) or its balance-heuristic share: r_l is the
-// estimator's density of the scattering's direction relative to the phase
-// function's (the events since the scattering, null collisions and the
-// specular chain, scaled both strategies' densities alike). The estimators'
-// path classes are disjoint: at most one has a density here.
+// The radiance a path leaving along `leaving` counts from `light`: all of
+// it, unless an estimator could have made the path since the last
+// scattering too; then none (LightHits::Excluded) or its balance-heuristic
+// share: r_l is the estimator's density of the scattering's direction
+// relative to the phase function's (the events since the scattering, null
+// collisions and the specular chain, scaled both strategies' densities
+// alike). The estimators' path classes are disjoint: at most one has a
+// density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
-                               const std::vector<std::unique_ptr<LightEstimator>>& estimators) const {
+                               const std::vector<std::unique_ptr<LightEstimator>>& estimators,
+                               const glm::vec3& leaving) const {
     using Since = PathState::Since;
-    const Spectrum L = light.radiance_toward(s.d);
+    const Spectrum L = light.radiance_toward(leaving);
     if (!(max_component(L) > 0.f)) return Spectrum(0.f);
     if (estimators.empty() || s.since == Since::Other || s.since == Since::Reflected) return L;
     PathToLight path;
     path.vertex = s.scattered_at;
     path.direction = s.scattered_along;
-    path.leaving = s.d;
-    path.chain = s.since == Since::Refracted          ? SpecularChain::Refraction
+    path.leaving = leaving;
+    path.chain = s.since == Since::Refracted            ? SpecularChain::Refraction
                  : s.since == Since::ReflectedRefracted ? SpecularChain::ReflectionRefraction
+                 : s.since == Since::RefractedReflected ? SpecularChain::RefractionReflection
                                                         : SpecularChain::None;
     path.reflection = s.reflection_point;
     path.exit = s.exit_point;

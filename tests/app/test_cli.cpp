@@ -703,6 +703,23 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     const Result chain = run(dir, "render --job " + dir.file("chain.json") + " --out " + dir.file("y.exr"));
     CHECK(chain.code == 2);
     CHECK_THAT(chain.err, Catch::Contains("settings.light_chain"));
+    // And --light-guide: a job beside report.json (its paths are relative to
+    // it) that turns it off renders another image (the pipeline's light is a
+    // disc behind a dielectric), as the flag does; a text is refused.
+    const std::string guide_key = "\"light_guide\": true";
+    text = report.str();
+    REQUIRE(text.find(guide_key) != std::string::npos);
+    std::string off = text;
+    std::ofstream(dir.file("o/noguide.json")) << off.replace(off.find(guide_key), guide_key.size(), "\"light_guide\": false");
+    REQUIRE(run(dir, "render --job " + dir.file("o/noguide.json") + " --out " + dir.file("noguide.exr")).code == 0);
+    CHECK_FALSE(same_pixels(dir.file("o/render.exr"), dir.file("noguide.exr")));
+    REQUIRE(run(dir, "render --job " + dir.file("o/report.json") + " --light-guide false --out " +
+                         dir.file("flag.exr")).code == 0);
+    CHECK(same_pixels(dir.file("noguide.exr"), dir.file("flag.exr")));
+    std::ofstream(dir.file("o/guide.json")) << text.replace(text.find(guide_key), guide_key.size(), "\"light_guide\": \"yes\"");
+    const Result guide = run(dir, "render --job " + dir.file("o/guide.json") + " --out " + dir.file("z.exr"));
+    CHECK(guide.code == 2);
+    CHECK_THAT(guide.err, Catch::Contains("light_guide"));
 }
 
 TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {

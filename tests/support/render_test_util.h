@@ -52,6 +52,16 @@ inline jade::TriangleMesh box_mesh(glm::vec3 lo, glm::vec3 hi) {
     return m;
 }
 
+// Two closed meshes as one (two bodies of one medium).
+inline jade::TriangleMesh merged_mesh(const jade::TriangleMesh& a, const jade::TriangleMesh& b) {
+    jade::TriangleMesh m = a;
+    const auto base = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+    m.normals.insert(m.normals.end(), b.normals.begin(), b.normals.end());
+    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    return m;
+}
+
 // An image to compare against: value and variance of that value per pixel.
 struct Expected {
     int width = 0, height = 0;

@@ -52,7 +52,8 @@ namespace jade {
 // Next-event estimation of the directional light through a smooth boundary
 // (render/light_estimator.h), each with MIS against disc hits: the manifold
 // walk, the guided cone, or `Auto`, the one that converges faster for the
-// light's size (the walk for small discs, the cone for wide ones). Off, the
+// light's size (the walk for small discs, the cone for wide ones; the bound
+// is lower where the light guide is mixed in). Off, the
 // light inside is found only by paths that happen to refract out into its
 // disc: same mean, more noise (for tests and benchmarks of the strategies).
 // A delta light is reached only by the manifold walk, whatever is chosen.
@@ -66,11 +67,14 @@ LightThroughBoundary parse_light_through_boundary(const std::string& name);
 // The specular chains through the boundary along which the light
 // estimators reach a light (render/light_estimators/manifold.h): one
 // refraction (One), or also one internal reflection before it (Two). Auto
-// takes Two for a delta light, which nothing else reaches along that chain,
-// and for a disc light small enough for the walk (under 10°, unless the
-// cone is asked for), and One otherwise: on the demo at equal time the
-// second chain lowered the error at 5° and raised it under the 20° disc and
-// the sunrise sky (README, "How the lights reach the inside").
+// takes Two for a delta light, which nothing else reaches along that chain;
+// for a disc light with the light guide, the guide's own second chain
+// (which beat the walk's at 5° on the demo); without it, Two for a disc
+// small enough for the walk (under 10°, unless the cone is asked for), and
+// One otherwise: on the demo at equal time the walk's second chain lowered
+// the error at 5° and raised it under the 20° disc and the sunrise sky
+// (README, "How the lights reach the inside"). One drops the guide's second
+// chain too.
 enum class LightChain { Auto, One, Two };
 const char* to_string(LightChain chain);
 // "auto", "1" or "2". Throws jade::Error naming --light-chain.
@@ -85,6 +89,10 @@ struct IntegratorSettings {
     // (render/sphere_exit.h); off only to compare with collision-by-collision
     // tracking (tests, `bench stiff`).
     bool sphere_walks = true;
+    // Where a disc light is estimated through a refracting boundary, draw
+    // half the estimator's directions from the light guide, which knows
+    // every face the light comes in by (render/light_guide.h).
+    bool light_guide = true;
     void validate() const;
 };
 
@@ -127,7 +135,8 @@ private:
     void record_specular_event(PathState& s, const glm::vec3& p, bool entering, bool reflected,
                                bool inside_after) const;
     Spectrum met_light(PathState& s, const DistantLight& light,
-                       const std::vector<std::unique_ptr<LightEstimator>>& estimators) const;
+                       const std::vector<std::unique_ptr<LightEstimator>>& estimators,
+                       const glm::vec3& leaving) const;
     bool survive(PathState& s) const;
 
     const Scene& scene_;

@@ -58,9 +58,11 @@ struct LightSample {
 };
 
 // The specular events a path meets between a medium vertex and the light:
-// none (index-matched crossings only), one refraction out, or one internal
-// reflection and then the refraction out. The estimators' path classes.
-enum class SpecularChain { None, Refraction, ReflectionRefraction };
+// none (index-matched crossings only), one refraction out, one internal
+// reflection and then the refraction out, or the refraction out and then a
+// reflection off the outside of another part of the object (a vase's
+// handle mirrored in its neck). The estimators' path classes.
+enum class SpecularChain { None, Refraction, ReflectionRefraction, RefractionReflection };
 
 // A phase-sampled path from medium vertex `vertex` along `direction` that
 // left the scene along `leaving` with nothing on the way but null
@@ -69,8 +71,8 @@ enum class SpecularChain { None, Refraction, ReflectionRefraction };
 struct PathToLight {
     glm::vec3 vertex{0.f}, direction{0.f}, leaving{0.f};
     SpecularChain chain = SpecularChain::None;
-    glm::vec3 reflection{0.f};  // ReflectionRefraction: where it reflected inside
-    glm::vec3 exit{0.f};        // Refraction, ReflectionRefraction: where it refracted out
+    glm::vec3 reflection{0.f};  // where it reflected: inside, or outside after the exit
+    glm::vec3 exit{0.f};        // where it refracted out
 };
 
 class LightEstimator {
@@ -101,6 +103,8 @@ struct IntegratorSettings;
 struct LightEstimators {
     std::vector<std::unique_ptr<LightEstimator>> directional, environment;
 };
-LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings);
+// `seed` keys the light guide's tracing (render/light_guide.h).
+LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings,
+                                      std::uint64_t seed);
 
 }  // namespace jade

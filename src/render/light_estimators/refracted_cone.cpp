@@ -36,7 +36,7 @@ std::optional<LightSample> RefractedConeEstimator::sample(const glm::vec3& p, fl
     if (!c) return std::nullopt;
     float pdf;
     const glm::vec3 w = c->sample(u1, u2, pdf);
-    LightSample ls = arriving(p, w, rng, counters);
+    LightSample ls = light_through_refraction(scene_, p, w, rng, counters);
     ls.direction = w;
     ls.pdf = pdf;
     return ls;
@@ -48,25 +48,26 @@ float RefractedConeEstimator::pdf(const PathToLight& path, PathCounters&) const 
     return c ? c->pdf(path.direction) : 0.f;
 }
 
-LightSample RefractedConeEstimator::arriving(const glm::vec3& p, const glm::vec3& w,
-                                              SampleStream& rng, PathCounters& counters) const {
+LightSample light_through_refraction(const Scene& scene, const glm::vec3& p, const glm::vec3& w,
+                                     SampleStream& rng, PathCounters& counters, PathToLight* path) {
     ++counters.shadow_rays;
-    const auto hit = scene_.boundary->intersect(p, w, 0.f, kInfinity);
+    const auto hit = scene.boundary->intersect(p, w, 0.f, kInfinity);
     if (!hit || glm::dot(w, hit->geometric_normal) <= 0.f) return {};
     const BoundaryTransmission out =
-        boundary_transmission(scene_.interface, w, interface_normal(*hit, w, false), false);
+        boundary_transmission(scene.interface, w, interface_normal(*hit, w, false), false);
     if (!(out.weight > 0.f)) return {};
-    const Spectrum le = scene_.light.radiance_toward(out.direction);
+    const Spectrum le = scene.light.radiance_toward(out.direction);
     if (!(max_component(le) > 0.f)) return {};
     const glm::vec3 y = p + hit->t * w;
     const bool outward = glm::dot(out.direction, hit->geometric_normal) > 0.f;
-    if (!(outward && scene_.boundary->convex()) &&
-        scene_.boundary->intersect(scene_.offset(y, hit->geometric_normal, out.direction),
-                                   out.direction, 0.f, kInfinity))
+    if (!(outward && scene.boundary->convex()) &&
+        scene.boundary->intersect(scene.offset(y, hit->geometric_normal, out.direction),
+                                  out.direction, 0.f, kInfinity))
         return {};  // the object itself is in the way
+    if (path) *path = PathToLight{p, w, out.direction, SpecularChain::Refraction, glm::vec3(0.f), y};
     LightSample ls;
     ls.radiance = out.weight * le;
-    ls.transmittance = ratio_tracking(*scene_.medium, p, w, hit->t, rng, counters);
+    ls.transmittance = ratio_tracking(*scene.medium, p, w, hit->t, rng, counters);
     return ls;
 }
 

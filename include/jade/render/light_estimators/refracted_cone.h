@@ -31,12 +31,17 @@ public:
 private:
     // The directions sampled at p (none when the guide cannot be found).
     std::optional<UniformCone> cone(const glm::vec3& p) const;
-    // The light arriving at p along w: its radiance times the boundary's
-    // weight (0 when blocked), and the medium's transmittance.
-    LightSample arriving(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
-                         PathCounters& counters) const;
 
     const Scene& scene_;
 };
+
+// The directional light arriving at medium vertex p along interior
+// direction w by one refraction out: its radiance times the boundary's
+// weight (0 when blocked or outside the disc) and the medium's
+// transmittance, ratio-tracked (direction and pdf are the caller's).
+// `path`, when given, receives the path this makes (chain Refraction).
+LightSample light_through_refraction(const Scene& scene, const glm::vec3& p, const glm::vec3& w,
+                                     SampleStream& rng, PathCounters& counters,
+                                     PathToLight* path = nullptr);
 
 }  // namespace jade

@@ -1,0 +1,87 @@
+#pragma once
+// Where the directional light arrives from, inside the object (docs/design.md,
+// "Light guide"): for every cell of a coarse grid over the object and for
+// each specular chain the light estimators follow (render/light_estimator.h:
+// straight in after the refraction, after one internal reflection too, or
+// after a reflection off the outside of another part of the object before
+// the refraction), a histogram of the directions toward the light of the
+// light that reaches the cell, over equal-area bins (core/sphere_bins.h).
+// It is built before a render by tracing the light's disc into the object
+// (light traced into a directional grid to guide the paths, as Jensen 1995
+// guided them by the photon map, "Importance driven path tracing using the
+// photon map").
+//
+// The light estimators draw directions from it (light_estimators/guided.h):
+// a direction toward where a chain's light comes from leaves through the
+// face that light came in by (after the reflection, for the second chain)
+// and meets the disc, whichever face that is. The other estimators aim at
+// one surface point only. The histogram is a density known for every
+// direction, so the estimators' samples and the paths that meet the light
+// by themselves are weighed against each other by MIS.
+//
+// Each stretch of light deposits its length in the cell (a track-length
+// estimate of the light's fluence there) times its weight through the
+// boundary and e^(−σ̄ s) after s inside, σ̄ the smallest channel's
+// majorant: directions whose light arrives through much medium are drawn
+// less often, as they contribute less.
+
+#include "jade/core/bounds.h"
+#include "jade/core/sphere_bins.h"
+#include "jade/render/light_estimator.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace jade {
+
+struct Scene;
+
+struct LightGuideSettings {
+    int cells = 24;                      // cells along the object's longest side
+    std::uint32_t photons = 1u << 18;    // rays traced from the light's disc
+};
+
+class LightGuide {
+public:
+    // The chains through the boundary it knows: Refraction (0),
+    // ReflectionRefraction (1) and RefractionReflection (2); −1 for None.
+    static constexpr int kChains = 3;
+    static int chain_index(SpecularChain chain);
+
+    // Nothing guided (every histogram() is −1).
+    LightGuide() = default;
+    // The guide of scene.light (a disc, on) behind scene.boundary: photon i
+    // draws its numbers from SampleStream(seed, i, ·), and the histograms
+    // are summed in fixed point, so the guide does not depend on the
+    // number of threads.
+    LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideSettings& settings = {});
+
+    bool empty() const { return cdf_.empty(); }
+    // The histogram of `chain` in the cell holding p, or −1 (outside the
+    // grid, or no light of that chain reached it).
+    int histogram(const glm::vec3& p, SpecularChain chain) const;
+    // A direction drawn from histogram h (≥ 0), u's in [0, 1).
+    glm::vec3 sample(int h, float u1, float u2, float u3) const;
+    // Its density in solid angle.
+    float pdf(int h, const glm::vec3& w) const;
+    // Histogram h's share of the light its cell receives by all chains.
+    float share(int h) const { return share_[std::size_t(h)]; }
+    const SphereBins& bins() const { return bins_; }
+    std::size_t histograms() const { return cdf_.size() / std::size_t(bins_.count()); }
+    std::size_t memory_bytes() const;
+
+private:
+    SphereBins bins_;
+    glm::vec3 origin_{0.f};
+    float cell_size_ = 1.f;
+    std::array<int, 3> dims_{0, 0, 0};
+    std::vector<std::int32_t> slot_;  // per grid cell and chain: its histogram, or −1
+    std::vector<float> cdf_;          // per histogram, bins_.count() cumulative shares (last 1)
+    std::vector<float> share_;        // per histogram, share()
+};
+
+}  // namespace jade

@@ -1,0 +1,238 @@
+#include "jade/render/light_guide.h"
+
+#include "jade/core/random.h"
+#include "jade/core/sampling.h"
+#include "jade/core/spectrum.h"
+#include "jade/render/scene.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace jade {
+
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+// A traced ray is followed until its weight (boundary and e^(−σ̄ s))
+// falls below this: what is left would hardly move a histogram.
+constexpr float kSmallestWeight = 1e-4f;
+// Deposits are summed as integers in units of 2^-32 of a whole cell's
+// length at full weight: integer sums do not depend on their order.
+constexpr double kFixedUnit = 4294967296.0;
+// Photon i draws from SampleStream(seed, i, kStream).
+constexpr std::uint64_t kStream = 0x4c4947ull;
+
+// The cell of a grid (dims cells of side cell_size from origin) holding p,
+// x fastest; −1 outside.
+long grid_cell(const glm::vec3& p, const glm::vec3& origin, float cell_size, const std::array<int, 3>& dims) {
+    const glm::vec3 q = (p - origin) / cell_size;
+    long index = 0;
+    for (int k = 2; k >= 0; --k) {
+        const float f = std::floor(q[k]);
+        if (!(f >= 0.f && f < float(dims[std::size_t(k)]))) return -1;
+        index = index * dims[std::size_t(k)] + long(f);
+    }
+    return index;
+}
+
+// The grid the deposits are summed in, as the traced rays see it.
+struct Deposits {
+    const SphereBins& bins;
+    glm::vec3 origin;
+    float cell_size;
+    std::array<int, 3> dims;
+    float sigma;  // σ̄
+    std::atomic<std::uint64_t>* sums;
+
+    // The stretch o + t·d, t ∈ [0, length), of light of weight `weight`
+    // that has come `travelled` through the medium; false once what is
+    // left of it is below kSmallestWeight.
+    bool add(const glm::vec3& o, const glm::vec3& d, float length, float weight, int chain,
+             float& travelled) const {
+        const int bin = bins.index(-d);  // toward where the light comes from
+        const float step = 0.5f * cell_size;
+        for (float s = 0.f; s < length; s += step) {
+            const float ds = std::min(step, length - s);
+            const float a = weight * std::exp(-sigma * (travelled + s + 0.5f * ds));
+            if (a < kSmallestWeight) return false;
+            const long c = grid_cell(o + (s + 0.5f * ds) * d, origin, cell_size, dims);
+            if (c < 0) continue;
+            const auto q = std::uint64_t(double(a) * double(ds / cell_size) * kFixedUnit);
+            const std::size_t h = std::size_t(c) * LightGuide::kChains + std::size_t(chain);
+            sums[h * std::size_t(bins.count()) + std::size_t(bin)].fetch_add(
+                q, std::memory_order_relaxed);
+        }
+        travelled += length;
+        return weight * std::exp(-sigma * travelled) >= kSmallestWeight;
+    }
+};
+
+// The light's ray through a point of the disc about the object's bounding
+// sphere (centre c, radius r), uniform over the disc and over the light's
+// cone of directions, as irradiance falls; false when it misses.
+bool light_ray(const Scene& scene, const glm::vec3& c, float r, SampleStream& rng, glm::vec3& o,
+               glm::vec3& d, std::optional<SurfaceHit>& hit) {
+    float pdf = 0.f;
+    const float u1 = rng.uniform(), u2 = rng.uniform();
+    const glm::vec3 w = scene.light.disc().sample(u1, u2, pdf);  // toward the light
+    glm::vec3 b1, b2;
+    orthonormal_basis(w, b1, b2);
+    const float rho = r * std::sqrt(rng.uniform()), phi = 2.f * kPi * rng.uniform();
+    o = c + 2.f * r * w + rho * (std::cos(phi) * b1 + std::sin(phi) * b2);
+    d = -w;
+    hit = scene.boundary->intersect(o, d, 0.f, kInfinity);
+    return hit && glm::dot(d, hit->geometric_normal) < 0.f;
+}
+
+// Light of weight `weight` refracted in at surface point y (geometric
+// normal ng) along d: straight on inside (chain 0), and once reflected at
+// the surface (chain 1).
+void trace_inside(const Scene& scene, const glm::vec3& y, const glm::vec3& ng, glm::vec3 d, float weight,
+                  const Deposits& deposits) {
+    Scene::Spawn spawn = scene.spawn_inside(y, ng, d);
+    float travelled = 0.f;
+    for (int reflections = 0;; ++reflections) {
+        const auto hit = scene.boundary->intersect(spawn.origin, d, spawn.query_from, kInfinity);
+        if (!hit || !deposits.add(spawn.origin, d, hit->t, weight, reflections, travelled)) return;
+        if (reflections == 1) return;
+        const glm::vec3& n_g = hit->geometric_normal;
+        if (!(glm::dot(d, n_g) > 0.f)) return;  // not leaving: a crack or a sliver
+        const glm::vec3 p = spawn.origin + hit->t * d;
+        const glm::vec3 n = interface_normal(*hit, d, false);
+        weight *= 1.f - boundary_transmission(scene.interface, d, n, false).weight;
+        d = reflect(d, n);
+        if (!(weight > 0.f) || !(glm::dot(d, n_g) < 0.f)) return;
+        spawn = scene.spawn_inside(p, n_g, d);
+    }
+}
+
+// Light of weight `weight` reflected off the outside at y along m: where
+// it meets another part of the object, refracted in and straight on
+// (chain 2).
+void trace_mirrored(const Scene& scene, const glm::vec3& y, const glm::vec3& ng, const glm::vec3& m,
+                    float weight, const Deposits& deposits) {
+    if (!(glm::dot(m, ng) > 0.f) || scene.boundary->convex()) return;  // nothing to meet again
+    const auto hit = scene.boundary->intersect(scene.offset(y, ng, m), m, 0.f, kInfinity);
+    if (!hit || !(glm::dot(m, hit->geometric_normal) < 0.f)) return;
+    const BoundaryTransmission in =
+        boundary_transmission(scene.interface, m, interface_normal(*hit, m, true), true);
+    weight *= in.weight;
+    if (!(weight > 0.f)) return;
+    const glm::vec3 p = scene.offset(y, ng, m) + hit->t * m;
+    const Scene::Spawn spawn = scene.spawn_inside(p, hit->geometric_normal, in.direction);
+    const auto inside = scene.boundary->intersect(spawn.origin, in.direction, spawn.query_from, kInfinity);
+    float travelled = 0.f;
+    if (inside) deposits.add(spawn.origin, in.direction, inside->t, weight, 2, travelled);
+}
+
+// One ray from the light where it meets the object: its reflection off the
+// outside and its refraction in.
+void trace_photon(const Scene& scene, const glm::vec3& c, float r, SampleStream& rng,
+                  const Deposits& deposits) {
+    glm::vec3 o, d;
+    std::optional<SurfaceHit> hit;
+    if (!light_ray(scene, c, r, rng, o, d, hit)) return;
+    const glm::vec3 y = o + hit->t * d;
+    const glm::vec3& ng = hit->geometric_normal;
+    const glm::vec3 n = interface_normal(*hit, d, true);
+    const BoundaryTransmission in = boundary_transmission(scene.interface, d, n, true);
+    if (in.weight < 1.f) trace_mirrored(scene, y, ng, reflect(d, glm::dot(d, n) < 0.f ? n : -n), 1.f - in.weight,
+                                        deposits);
+    if (in.weight > 0.f) trace_inside(scene, y, ng, in.direction, in.weight, deposits);
+}
+
+}  // namespace
+
+LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideSettings& settings) {
+    if (!scene.boundary || !scene.medium || !scene.light.on() || scene.light.is_delta() ||
+        scene.interface.mode == BoundaryMode::None || settings.cells < 1)
+        return;
+    const Bounds3 box = scene.boundary->mesh().bounds();
+    const glm::vec3 extent = box.extent();
+    const float longest = max_component(extent);
+    if (!(longest > 0.f)) return;
+    cell_size_ = longest / float(settings.cells);
+    origin_ = box.min;
+    for (int k = 0; k < 3; ++k)
+        dims_[std::size_t(k)] = std::max(1, int(std::ceil(extent[k] / cell_size_)));
+    const std::size_t cells = std::size_t(dims_[0]) * std::size_t(dims_[1]) * std::size_t(dims_[2]);
+    const std::size_t nb = std::size_t(bins_.count());
+    const std::size_t histograms = cells * kChains;
+    std::unique_ptr<std::atomic<std::uint64_t>[]> sums(new std::atomic<std::uint64_t>[histograms * nb]());
+    const Deposits deposits{bins_, origin_, cell_size_, dims_, min_component(scene.medium->majorant()),
+                            sums.get()};
+    const glm::vec3 centre = 0.5f * (box.min + box.max);
+    const float radius = 0.5f * glm::length(extent) * 1.01f;
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, settings.photons, 1024),
+                      [&](const tbb::blocked_range<std::uint32_t>& range) {
+                          for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                              SampleStream rng(seed, i, kStream);
+                              trace_photon(scene, centre, radius, rng, deposits);
+                          }
+                      });
+    slot_.assign(histograms, -1);
+    std::int32_t made = 0;
+    for (std::size_t c = 0; c < cells; ++c) {
+        double totals[kChains] = {}, cell_total = 0.0;
+        for (std::size_t k = 0; k < kChains; ++k) {
+            for (std::size_t b = 0; b < nb; ++b) totals[k] += double(sums[(c * kChains + k) * nb + b].load());
+            cell_total += totals[k];
+        }
+        for (std::size_t k = 0; k < kChains; ++k) {
+            if (!(totals[k] > 0.0)) continue;
+            const std::size_t h = c * kChains + k;
+            slot_[h] = made++;
+            share_.push_back(float(totals[k] / cell_total));
+            double running = 0.0;
+            for (std::size_t b = 0; b < nb; ++b) {
+                running += double(sums[h * nb + b].load());
+                cdf_.push_back(float(running / totals[k]));
+            }
+            cdf_.back() = 1.f;
+        }
+    }
+}
+
+int LightGuide::histogram(const glm::vec3& p, SpecularChain chain) const {
+    const int k = chain_index(chain);
+    if (slot_.empty() || k < 0) return -1;
+    const long c = grid_cell(p, origin_, cell_size_, dims_);
+    return c < 0 ? -1 : slot_[std::size_t(c) * kChains + std::size_t(k)];
+}
+
+int LightGuide::chain_index(SpecularChain chain) {
+    switch (chain) {
+    case SpecularChain::Refraction: return 0;
+    case SpecularChain::ReflectionRefraction: return 1;
+    case SpecularChain::RefractionReflection: return 2;
+    case SpecularChain::None: break;
+    }
+    return -1;
+}
+
+glm::vec3 LightGuide::sample(int h, float u1, float u2, float u3) const {
+    const auto first = cdf_.begin() + std::ptrdiff_t(h) * bins_.count();
+    const auto bin = std::upper_bound(first, first + bins_.count(), u1) - first;
+    return bins_.direction(int(std::min<std::ptrdiff_t>(bin, bins_.count() - 1)), u2, u3);
+}
+
+float LightGuide::pdf(int h, const glm::vec3& w) const {
+    const std::size_t first = std::size_t(h) * std::size_t(bins_.count());
+    const int b = bins_.index(w);
+    const float share = cdf_[first + std::size_t(b)] - (b > 0 ? cdf_[first + std::size_t(b) - 1] : 0.f);
+    return share / bins_.solid_angle();
+}
+
+std::size_t LightGuide::memory_bytes() const {
+    return slot_.size() * sizeof(std::int32_t) + (cdf_.size() + share_.size()) * sizeof(float);
+}
+
+}  // namespace jade

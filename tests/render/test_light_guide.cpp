@@ -1,0 +1,156 @@
+// The light guide against geometry (render/light_guide.h): under a flat face
+// its histograms point back along Snell's refraction, and along the beam's
+// reflection off the floor; beside a wall they point back along the beam
+// the wall mirrors into the slab; it is a normalised density; a convex
+// object has no mirrored chain; a delta light has no guide; the threads do
+// not change it. The truths are Snell's and the mirror's laws, written here.
+
+#include "jade/render/light_guide.h"
+#include "jade/render/media/homogeneous.h"
+#include "jade/render/scene.h"
+
+#include "support/render_test_util.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace jade;
+
+namespace {
+
+
+Scene guide_scene(const MeshAccel& accel, const Medium& medium, const glm::vec3& toward_light, float radius) {
+    Scene s;
+    s.boundary = &accel;
+    s.medium = &medium;
+    s.interface.mode = BoundaryMode::Split;
+    s.light = DirectionalLight(toward_light, 3.f, radius);
+    s.fit_ray_epsilon();
+    return s;
+}
+
+// The mean of n directions drawn from histogram h, normalised.
+glm::vec3 mean_direction(const LightGuide& guide, int h, int n = 20000) {
+    SplitMix64 rng(3);
+    glm::dvec3 sum(0.0);
+    for (int k = 0; k < n; ++k)
+        sum += glm::dvec3(guide.sample(h, float(rng.uniform()), float(rng.uniform()), float(rng.uniform())));
+    return glm::vec3(glm::normalize(sum));
+}
+
+double angle_degrees(const glm::vec3& a, const glm::vec3& b) {
+    return std::acos(std::clamp(double(glm::dot(glm::normalize(a), glm::normalize(b))), -1.0, 1.0)) * 180.0 / kPiD;
+}
+
+}  // namespace
+
+TEST_CASE("under a flat face the guide points back along Snell's refraction and the floor's mirror",
+          "[light_guide]") {
+    // A slab 0 ≤ z ≤ 1 under a 5° disc 40° from the normal. Refracted in
+    // (IOR 1.6), the light travels at θ_i = asin(sin 40° / 1.6) = 23.7°:
+    // toward the light is (sin θ_i, 0, cos θ_i); after the floor's mirror it
+    // is (sin θ_i, 0, −cos θ_i).
+    const TriangleMesh slab = jade_test::box_mesh({-20, -20, 0}, {20, 20, 1});
+    const MeshAccel accel(slab, true);
+    const HomogeneousMedium medium(Spectrum(0.5f), Spectrum(0.1f));
+    const double theta_o = 40.0 * kPiD / 180.0, theta_i = std::asin(std::sin(theta_o) / 1.6);
+    const Scene s = guide_scene(accel, medium, {float(std::sin(theta_o)), 0.f, float(std::cos(theta_o))}, 5.f);
+    const LightGuide guide(s, 1);
+    REQUIRE_FALSE(guide.empty());
+    const glm::vec3 p(0.f, 0.f, 0.5f);
+    const glm::vec3 direct(float(std::sin(theta_i)), 0.f, float(std::cos(theta_i)));
+    const glm::vec3 mirrored(direct.x, 0.f, -direct.z);
+    const int h0 = guide.histogram(p, SpecularChain::Refraction);
+    const int h1 = guide.histogram(p, SpecularChain::ReflectionRefraction);
+    REQUIRE(h0 >= 0);
+    REQUIRE(h1 >= 0);
+    // Bins are about 8.5° across: the mean of the drawn directions lies
+    // within half a bin of the truth.
+    CHECK(angle_degrees(mean_direction(guide, h0), direct) < 4.5);
+    CHECK(angle_degrees(mean_direction(guide, h1), mirrored) < 4.5);
+    // The bin holding the truth is the densest.
+    CHECK(guide.pdf(h0, direct) > 0.5f * guide.pdf(h0, mean_direction(guide, h0)));
+    CHECK(guide.pdf(h0, mirrored) == 0.f);
+    // Nothing outside reflects into a lone slab.
+    CHECK(guide.histogram(p, SpecularChain::RefractionReflection) == -1);
+}
+
+TEST_CASE("beside a wall the guide points back along the beam the wall mirrors into the slab", "[light_guide]") {
+    // A wall (x ≤ 0, up to z = 4) and a slab beside it (x ≥ 0.2, up to
+    // z = 0.3), light 30° from the vertical on the slab's side. The beam
+    // mirrored off the wall's face x = 0 travels (sin 30°, 0, −cos 30°) and
+    // refracts into the slab's top: there it travels (sin θ_i, 0, −cos θ_i),
+    // sin θ_i = sin 30° / 1.6, so toward the light by that chain is
+    // (−sin θ_i, 0, cos θ_i). The light straight in comes the other way in x.
+    const TriangleMesh mesh = jade_test::merged_mesh(jade_test::box_mesh({-1, -3, 0}, {0, 3, 4}),
+                                        jade_test::box_mesh({0.2f, -3, 0}, {4, 3, 0.3f}));
+    const MeshAccel accel(mesh, true);
+    REQUIRE_FALSE(accel.convex());
+    const HomogeneousMedium medium(Spectrum(0.5f), Spectrum(0.1f));
+    const double theta = 30.0 * kPiD / 180.0, theta_i = std::asin(std::sin(theta) / 1.6);
+    const Scene s = guide_scene(accel, medium, {float(std::sin(theta)), 0.f, float(std::cos(theta))}, 5.f);
+    const LightGuide guide(s, 2);
+    // The mirrored beam reaches the slab's top for x up to about
+    // 3.7·tan 30° = 2.1: a point in the slab under it.
+    const glm::vec3 p(1.f, 0.f, 0.15f);
+    const int h2 = guide.histogram(p, SpecularChain::RefractionReflection);
+    REQUIRE(h2 >= 0);
+    const glm::vec3 truth(float(-std::sin(theta_i)), 0.f, float(std::cos(theta_i)));
+    CHECK(angle_degrees(mean_direction(guide, h2), truth) < 4.5);
+    const int h0 = guide.histogram(p, SpecularChain::Refraction);
+    REQUIRE(h0 >= 0);
+    CHECK(angle_degrees(mean_direction(guide, h0), {float(std::sin(theta_i)), 0.f, float(std::cos(theta_i))}) < 4.5);
+}
+
+TEST_CASE("the guide is a normalised density that the threads do not change and a delta light has none",
+          "[light_guide]") {
+    const TriangleMesh sphere = icosphere(4, 1.f);
+    const MeshAccel accel(sphere);
+    REQUIRE(accel.convex());
+    const HomogeneousMedium medium(Spectrum(1.f), Spectrum(0.2f));
+    const Scene s = guide_scene(accel, medium, {0.3f, 0.8f, 0.5f}, 10.f);
+    const LightGuide guide(s, 3);
+    LightGuide one_thread;
+    tbb::task_arena(1).execute([&] { one_thread = LightGuide(s, 3); });
+    SplitMix64 rng(5);
+    for (const glm::vec3& p : {glm::vec3(0.f), glm::vec3(0.3f, 0.5f, 0.2f), glm::vec3(-0.4f, 0.1f, -0.3f)}) {
+        for (SpecularChain chain : {SpecularChain::Refraction, SpecularChain::ReflectionRefraction}) {
+            const int h = guide.histogram(p, chain);
+            REQUIRE(h >= 0);
+            REQUIRE(one_thread.histogram(p, chain) == h);
+            // The density over the bins sums to 1, the directions drawn
+            // fall in each bin as often as it says (binomial, 5 standard
+            // deviations), and the guide built on one thread is the same.
+            const SphereBins& bins = guide.bins();
+            double total = 0.0;
+            bool same = true;
+            for (int b = 0; b < bins.count(); ++b) {
+                const glm::vec3 centre = bins.direction(b, 0.5f, 0.5f);
+                total += double(guide.pdf(h, centre)) * bins.solid_angle();
+                same = same && guide.pdf(h, centre) == one_thread.pdf(h, centre);
+            }
+            CHECK(total == Approx(1.0).epsilon(1e-4));
+            CHECK(same);
+            const int n = 200000;
+            std::vector<int> counts(std::size_t(bins.count()), 0);
+            for (int k = 0; k < n; ++k)
+                ++counts[std::size_t(bins.index(guide.sample(h, float(rng.uniform()), float(rng.uniform()),
+                                                             float(rng.uniform()))))];
+            double worst = 0.0;
+            for (int b = 0; b < bins.count(); ++b) {
+                const double q = double(guide.pdf(h, bins.direction(b, 0.5f, 0.5f))) * bins.solid_angle();
+                const double sd = std::sqrt(n * q * (1.0 - q)) + 1.0;
+                worst = std::max(worst, std::abs(counts[std::size_t(b)] - n * q) / sd);
+            }
+            CHECK(worst < 5.0);
+        }
+        // A ray leaving a convex object meets nothing: no mirrored chain.
+        CHECK(guide.histogram(p, SpecularChain::RefractionReflection) == -1);
+    }
+    const Scene delta = guide_scene(accel, medium, {0.3f, 0.8f, 0.5f}, 0.f);
+    CHECK(LightGuide(delta, 3).empty());
+}
