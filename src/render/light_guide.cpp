@@ -53,7 +53,8 @@ struct Deposits {
     std::atomic<std::uint64_t>* sums;
 
     // The stretch o + t·d, t ∈ [0, length), of light of weight `weight`
-    // that has come `travelled` through the medium; false once what is
+    // that has come `travelled` through the medium, in the histograms of
+    // chain index `chain` (LightGuide::chain_index); false once what is
     // left of it is below kSmallestWeight.
     bool add(const glm::vec3& o, const glm::vec3& d, float length, float weight, int chain,
              float& travelled) const {
@@ -101,7 +102,9 @@ void trace_inside(const Scene& scene, const glm::vec3& y, const glm::vec3& ng, g
     float travelled = 0.f;
     for (int reflections = 0;; ++reflections) {
         const auto hit = scene.boundary->intersect(spawn.origin, d, spawn.query_from, kInfinity);
-        if (!hit || !deposits.add(spawn.origin, d, hit->t, weight, reflections, travelled)) return;
+        const SpecularChain chain = reflections == 0 ? SpecularChain::Refraction : SpecularChain::ReflectionRefraction;
+        if (!hit || !deposits.add(spawn.origin, d, hit->t, weight, LightGuide::chain_index(chain), travelled))
+            return;
         if (reflections == 1) return;
         const glm::vec3& n_g = hit->geometric_normal;
         if (!(glm::dot(d, n_g) > 0.f)) return;  // not leaving: a crack or a sliver
@@ -130,7 +133,9 @@ void trace_mirrored(const Scene& scene, const glm::vec3& y, const glm::vec3& ng,
     const Scene::Spawn spawn = scene.spawn_inside(p, hit->geometric_normal, in.direction);
     const auto inside = scene.boundary->intersect(spawn.origin, in.direction, spawn.query_from, kInfinity);
     float travelled = 0.f;
-    if (inside) deposits.add(spawn.origin, in.direction, inside->t, weight, 2, travelled);
+    if (inside)
+        deposits.add(spawn.origin, in.direction, inside->t, weight,
+                     LightGuide::chain_index(SpecularChain::RefractionReflection), travelled);
 }
 
 // One ray from the light where it meets the object: its reflection off the
