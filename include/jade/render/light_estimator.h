@@ -20,6 +20,10 @@
 //                   internal reflection and then the refraction) found by
 //                   Newton's method on the surface
 //                   (render/specular_manifold.h)
+//   guided          through a smooth dielectric, the directional light's
+//                   disc only: directions from the light guide
+//                   (render/light_guide.h), along any of its three chains,
+//                   mixed with the cone or the walk where they cover one
 // Without one, a light is found only by paths that meet it.
 
 #include "jade/core/random.h"

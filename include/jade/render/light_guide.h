@@ -13,8 +13,9 @@
 //
 // The light estimators draw directions from it (light_estimators/guided.h):
 // a direction toward where a chain's light comes from leaves through the
-// face that light came in by (after the reflection, for the second chain)
-// and meets the disc, whichever face that is. The other estimators aim at
+// face that light came in by (after the reflection inside, for the second
+// chain; then on to the part that mirrored it, for the third) and meets the
+// disc, whichever face that is. The other estimators aim at
 // one surface point only. The histogram is a density known for every
 // direction, so the estimators' samples and the paths that meet the light
 // by themselves are weighed against each other by MIS.
