@@ -96,7 +96,8 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     cmd.add_option("--ds", o.optics.ds, "Scattering scale d_s")->capture_default_str();
     cmd.add_option("--da", o.optics.da, "Absorption scale d_a")->capture_default_str();
     cmd.add_option("--density-scale", o.optics.density_scale,
-                   "Optical thickness across the object for a coefficient of 1")
+                   "Optical thickness across the object for a coefficient of 1 (--fit contrast may raise it, "
+                   "see --fit-density)")
         ->capture_default_str();
     group_from(cmd, first, "Photo and material volume");
 }
@@ -524,13 +525,18 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     add_scene_flags(app, p.scene, "--render-seed");
     jade::PipelineOptions& o = p.options;
     first = app.get_options().size();
-    app.add_option("--fit", p.fit, "What the fit matches: 'contrast' (k_s and contrast per channel, for the "
-                                   "photo's brightness A and spread S), 'bisect' (k_s for A: bracket, then bisect), "
+    app.add_option("--fit", p.fit, "What the fit matches: 'contrast' (k_s and contrast per channel, and where "
+                                   "needed the density scale, for the photo's brightness A and spread S), 'bisect' (k_s for A: bracket, then bisect), "
                                    "'step' (k_s for A in the paper's 0.01 steps) or 'none'")
         ->capture_default_str();
     app.add_option("--contrast", p.contrast_start.text,
                    "Contrast of the levels about their mean, r,g,b (0..16; 1 = the paper's levels): where "
                    "--fit contrast starts, or the one used by the other fits (default: 1, or that of --volume)");
+    app.add_option("--fit-density", o.fit.fit_density,
+                   "--fit contrast may raise --density-scale (light travels less far between the veins, which "
+                   "then stay sharper) where a channel would need a contrast above 4, beyond which more and "
+                   "more voxels clip; false: keep --density-scale")
+        ->capture_default_str();
     app.add_option("--ks", p.ks_start.text, "k_s to start the fit from (or to use with --fit none), r,g,b "
                                             "(default: 0, or the stored k_s of --volume)");
     app.add_option("--fit-width", o.fit.width, "Width of the fitting renders (0 = a quarter of --width)")
@@ -599,10 +605,10 @@ int run_pipeline(PipelineFlags& p) {
                 fit.ks[2], fit.contrast[0], fit.contrast[1], fit.contrast[2],
                 fit.converged ? goal : "NOT converged (see the warnings)");
     if (contrast)
-        std::printf("  S_material (the render's spread less its shading): (%.1f, %.1f, %.1f); the photo's S at the "
-                    "fitting renders' scale: (%.1f, %.1f, %.1f)\n",
+        std::printf("  S_material (the render's spread less its shading and noise): (%.1f, %.1f, %.1f); the photo's "
+                    "S at the fitting renders' scale: (%.1f, %.1f, %.1f); density scale %.4g (from %.4g)\n",
                     fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.s_photo[0], fit.s_photo[1],
-                    fit.s_photo[2]);
+                    fit.s_photo[2], fit.density_scale, fit.density_scale_start);
     if (best)
         std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
                     "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",

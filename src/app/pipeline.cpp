@@ -213,6 +213,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     }
     volume.optics.ks = res.fit.ks;
     volume.optics.contrast = res.fit.contrast;
+    volume.optics.density_scale = res.fit.density_scale;
     volume.exposure = res.fit.exposure;
 
     clock = Stopwatch();

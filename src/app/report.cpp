@@ -26,20 +26,20 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     std::string s = "iteration,seconds,spp";
     const char* ch[3] = {"r", "g", "b"};
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
-                             "S_photo_scaled", "S_material"})
+                             "S_photo_scaled", "S_material", "S_material_noise"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",structure,shading\n";
+    s += ",density_scale,structure,shading\n";
     char buf[64];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
         s += buf;
         for (const auto* arr : {&r.ks, &r.contrast, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance,
-                                &r.s_photo, &r.s_render, &r.s_photo_scaled, &r.s_material})
+                                &r.s_photo, &r.s_render, &r.s_photo_scaled, &r.s_material, &r.s_material_noise})
             for (double v : *arr) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        std::snprintf(buf, sizeof buf, ",%.6g,%d\n", r.structure, r.shading ? 1 : 0);
+        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d\n", r.density_scale, r.structure, r.shading ? 1 : 0);
         s += buf;
     }
     return s;
@@ -171,7 +171,8 @@ std::string pipeline_report(const PipelineReport& in) {
                 {"exposure_matched", fit.exposure_matched}, {"tolerance", fit.limits.tolerance},
                 {"step", fit.limits.step}, {"ks_start", fit.ks_start}, {"ks_min", fit.limits.k_min},
                 {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"contrast_start", fit.contrast_start},
-                {"contrast", fit.contrast}, {"converged", fit.converged}, {"channel_status", status}};
+                {"contrast", fit.contrast}, {"density_scale_start", fit.density_scale_start},
+                {"density_scale", fit.density_scale}, {"converged", fit.converged}, {"channel_status", status}};
     if (o.fit.method == FitMethod::Contrast)
         j["fit"]["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_fitting_scale", fit.s_photo},
                          {"material", fit.s_material}};
@@ -182,6 +183,7 @@ std::string pipeline_report(const PipelineReport& in) {
             double best = 1e300;
             for (const FitRecord& r : fit.records)
                 if (!r.shading && r.ks[c] == fit.ks[c] && r.contrast[c] == fit.contrast[c] &&
+                    r.density_scale == fit.density_scale &&
                     std::abs(r.delta[c]) < best) {
                     best = std::abs(r.delta[c]);
                     delta[c] = r.delta[c];

@@ -15,9 +15,9 @@ double srgb_decode(double y) {
     return y <= 0.04045 ? y / 12.92 : std::pow((y + 0.055) / 1.055, 2.4);
 }
 
-std::uint8_t display_level(double linear) {
-    return std::uint8_t(std::lround(255.0 * srgb_encode(std::clamp(linear, 0.0, 1.0))));
-}
+double continuous_level(double linear) { return 255.0 * srgb_encode(std::clamp(linear, 0.0, 1.0)); }
+
+std::uint8_t display_level(double linear) { return std::uint8_t(std::lround(continuous_level(linear))); }
 
 std::uint8_t level_of_encoded(double encoded) {
     return std::uint8_t(std::lround(std::clamp(encoded, 0.0, 1.0) * 255.0));

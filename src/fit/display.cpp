@@ -142,7 +142,7 @@ double mean_level(const ObjectChannel& f, double scale) {
     double sum = 0.0;
     std::size_t n = 0;
     for (std::size_t i = 0; i < f.inside.size(); ++i)
-        if (f.inside[i]) sum += 255.0 * srgb_encode(std::clamp(scale * f.value[i], 0.0, 1.0)), ++n;
+        if (f.inside[i]) sum += continuous_level(scale * f.value[i]), ++n;
     return n ? sum / double(n) : 0.0;
 }
 
@@ -183,7 +183,7 @@ double level_spread(const ObjectChannel& f) {
     std::size_t n = 0;
     for (std::size_t i = 0; i < f.inside.size(); ++i) {
         if (!f.inside[i]) continue;
-        const double level = 255.0 * srgb_encode(std::clamp(f.value[i], 0.0, 1.0));
+        const double level = continuous_level(f.value[i]);
         sum += level;
         sum2 += level * level;
         ++n;
@@ -193,6 +193,23 @@ double level_spread(const ObjectChannel& f) {
     return std::sqrt(std::max(0.0, sum2 / double(n) - mean * mean));
 }
 
+// The covariance of two images' levels over the blocks inside both: the
+// variance of what they share (when their noise is independent).
+double level_covariance(const ObjectChannel& a, const ObjectChannel& b) {
+    double sum_a = 0.0, sum_b = 0.0, sum_ab = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.inside.size(); ++i) {
+        if (!a.inside[i] || !b.inside[i]) continue;
+        const double la = continuous_level(a.value[i]), lb = continuous_level(b.value[i]);
+        sum_a += la;
+        sum_b += lb;
+        sum_ab += la * lb;
+        ++n;
+    }
+    if (n < 2) return 0.0;
+    return sum_ab / double(n) - (sum_a / double(n)) * (sum_b / double(n));
+}
+
 }  // namespace
 
 int material_block(double relative_error) {
@@ -200,14 +217,23 @@ int material_block(double relative_error) {
     return std::clamp(int(std::ceil(relative_error / kBlockError)), 1, 8);
 }
 
-std::array<double, 3> material_spread(const Film& render, const Film& shading, float exposure, int block) {
-    if (render.width() != shading.width() || render.height() != shading.height())
+MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shading, float exposure, int block) {
+    if (render.first.width() != shading.first.width() || render.first.height() != shading.first.height())
         throw Error("internal: material_spread needs a render and a shading render of one size");
-    std::array<double, 3> s{};
-    for (int c = 0; c < 3; ++c)
-        s[c] = level_spread(block_means(flattened(object_channel(render, c, exposure),
-                                                  object_channel(shading, c, exposure)), block));
-    return s;
+    const Film whole_render = render.merged(), whole_shading = shading.merged();
+    auto flat_blocks = [&](const Film& r, const Film& h, int c) {
+        return block_means(flattened(object_channel(r, c, exposure), object_channel(h, c, exposure)), block);
+    };
+    MaterialSpread m;
+    for (int c = 0; c < 3; ++c) {
+        const ObjectChannel whole = flat_blocks(whole_render, whole_shading, c);
+        const ObjectChannel one = flat_blocks(render.first, shading.first, c);
+        const ObjectChannel two = flat_blocks(render.second, shading.second, c);
+        const double spread = level_spread(whole);
+        m.s[c] = std::sqrt(std::max(0.0, level_covariance(one, two)));
+        m.noise[c] = std::sqrt(std::max(0.0, spread * spread - m.s[c] * m.s[c]));
+    }
+    return m;
 }
 
 Photo flat_render(const Film& render, const Film& shading, float exposure, int block) {

@@ -106,24 +106,52 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
     settings_.target_error = 0;
     settings_.reference = nullptr;
     settings_.backdrop = Backdrop{nullptr, true};
-    OpticalParams at_max = volume.optics;
+    set_density_scale(volume.optics.density_scale);
+}
+
+void FitSession::set_density_scale(double density_scale) {
+    density_scale_ = density_scale;
+    OpticalParams at_max = volume_.optics;
+    at_max.density_scale = density_scale;
     at_max.ks = {limits_.k_max, limits_.k_max, limits_.k_max};
     // Clipped at every level: the largest σ_t any contrast the fit tries gives.
     at_max.contrast = {kMaxContrast, kMaxContrast, kMaxContrast};
-    shared_majorant_ = MaterialVolumeMedium(volume, volume.cube, at_max).majorant();
+    shared_majorant_ = MaterialVolumeMedium(volume_, volume_.cube, at_max).majorant();
 }
 
-RenderResult FitSession::render_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast,
-                                   int spp) const {
+// Calls how(scene, settings) with the scene holding the volume at ks,
+// contrast and the current density scale (under the shared majorant), and
+// the fitting renders' settings at spp samples per pixel.
+template <class How>
+auto FitSession::with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
+                             How how) const {
     OpticalParams optics = volume_.optics;
     optics.ks = ks;
     optics.contrast = contrast;
+    optics.density_scale = density_scale_;
     const MaterialVolumeMedium medium(volume_, volume_.cube, optics, shared_majorant_);
     Scene scene = scene_;
     scene.medium = &medium;
     RenderSettings settings = settings_;
     settings.spp = spp;
-    return render(scene, camera_, settings);
+    return how(scene, settings);
+}
+
+RenderResult FitSession::render_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast,
+                                   int spp) const {
+    return with_medium(ks, contrast, spp, [&](const Scene& scene, const RenderSettings& settings) {
+        return render(scene, camera_, settings);
+    });
+}
+
+// The fitting render at ks and contrast (its sample count already chosen)
+// in two independent halves, for S_material's noise estimate.
+SplitFilms FitSession::split_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast) {
+    SplitFilms films = with_medium(ks, contrast, outcome_.spp, [&](const Scene& scene, const RenderSettings& settings) {
+        return render_halves(scene, camera_, settings);
+    });
+    if (progress_) progress_->advance();
+    return films;
 }
 
 // One fitting render at ks; the first chooses the sample count: doubled from
@@ -169,6 +197,7 @@ FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<
     rec.spp = outcome_.spp;
     rec.ks = ks;
     rec.contrast = contrast;
+    rec.density_scale = density_scale_;
     for (int c = 0; c < 3; ++c) {
         rec.a_photo[c] = photo_histogram_.mean(c);
         rec.a_render[c] = st.a[c];
@@ -212,6 +241,8 @@ FitOutcome FitSession::run(Progress* progress) {
     outcome_.height = camera_.height();
     outcome_.ks_start = options_.ks_start.value_or(volume_.optics.ks);
     outcome_.contrast_start = options_.contrast_start.value_or(volume_.optics.contrast);
+    outcome_.density_scale_start = volume_.optics.density_scale;
+    set_density_scale(volume_.optics.density_scale);
     outcome_.exposure = options_.exposure;
     outcome_.exposure_matched = options_.exposure == 0.f;
     const bool fitting = options_.method != FitMethod::None;
@@ -244,6 +275,7 @@ void FitSession::finish(const FitDriver& driver) {
     const bool fitting = options_.method != FitMethod::None;
     outcome_.converged = true;
     outcome_.contrast = outcome_.contrast_start;
+    outcome_.density_scale = density_scale_;
     for (int c = 0; c < 3; ++c) {
         outcome_.ks[c] = fitting ? driver.best_k()[c] : outcome_.ks_start[c];
         outcome_.state[c] = driver.state(c);
@@ -294,11 +326,13 @@ void FitSession::mark_clipped_channels() {
     }
 }
 
-// The latest fitting render (not a shading render) at the fitted k_s and
-// contrast of channel c, or none.
+// The latest fitting render (not a shading render) at the fitted k_s,
+// contrast and density scale of channel c, or none.
 const FitRecord* FitSession::final_record(int c) const {
     for (auto it = outcome_.records.rbegin(); it != outcome_.records.rend(); ++it)
-        if (!it->shading && it->ks[c] == outcome_.ks[c] && it->contrast[c] == outcome_.contrast[c]) return &*it;
+        if (!it->shading && it->ks[c] == outcome_.ks[c] && it->contrast[c] == outcome_.contrast[c] &&
+            it->density_scale == outcome_.density_scale)
+            return &*it;
     return nullptr;
 }
 
@@ -332,6 +366,56 @@ std::array<double, 3> FitSession::brightness_slopes() const {
     return slope;
 }
 
+namespace {
+
+// The more contrast, the more voxels are clipped to level 0 or 1, and the
+// less the volume has the photo's histogram of levels (the demo's volume:
+// 12–18 % of the voxels at 4, a third to a half at 8, more than half at 16,
+// where S hardly grows any more): where the photo's S needs more, --fit
+// contrast raises the density scale instead.
+constexpr double kContrastCeiling = 4.0;
+// At a fixed contrast S_material grows about as the density scale to a
+// power α: the factor by which a step in density scale is expected to raise
+// S, so that the contrasts can be lowered to match. It differs between
+// channels and falls as the density grows (the demo's vase: 0.6–0.9 from
+// 20 to 60 at contrast 1; blue at contrast 4, 0.47 from 20 to 61 and 0.36
+// from 61 to 113), so the first step takes this one and later steps the one
+// measured by the steps before (bounded).
+constexpr double kDensityExponent = 0.5;
+constexpr double kDensityExponentMin = 0.3, kDensityExponentMax = 1.5;
+// The most the fit raises the density scale, as a factor of the volume's
+// own, and per step.
+constexpr double kMaxDensityGain = 8.0;
+constexpr double kMaxDensityStep = 4.0;
+// A smaller step is not worth forgetting the search for.
+constexpr double kMinDensityStep = 1.1;
+
+}  // namespace
+
+// The state of --fit contrast's search, per channel.
+struct FitSession::ContrastSearch {
+    std::array<double, 3> k{}, g{};
+    // dA/dk_s, measured at contrast 1 by the k_s search and corrected by
+    // every step (at another contrast the slope differs, and Newton steps
+    // with the first slope swing back and forth or creep).
+    std::array<double, 3> slope{};
+    std::array<double, 3> delta_prev{};
+    std::array<bool, 3> done{};
+    std::array<double, 3> best_score{1e300, 1e300, 1e300};
+    std::array<double, 3> g_prev{}, s_prev{};
+    // A step before this one at this density scale: for the contrasts'
+    // secants, and for correcting k_s's slope by the change in ΔA (a step
+    // in density scale moves A as well).
+    bool have_prev = false;
+    // The last render's contrast, S and ΔA per channel, and the same at the
+    // last step in density scale (density_at_raise > 0 once there was one):
+    // a channel at the same contrast and near the photo's A in both
+    // measures α.
+    std::array<double, 3> g_last{}, s_last{}, delta_last{}, g_at_raise{}, s_at_raise{}, delta_at_raise{};
+    double density_at_raise = 0.0;
+    double alpha = kDensityExponent;
+};
+
 // --fit contrast, after k_s matched A: k_s and the contrast g_c together
 // until A and S_material match in every channel (docs/design.md,
 // "Contrast"). Each step renders the mean medium (contrast 0: the shading)
@@ -340,68 +424,47 @@ std::array<double, 3> FitSession::brightness_slopes() const {
 // by Newton's step with the slope measured by the k_s search. The channels
 // are independent (one render serves all three); a channel stops when both
 // |ΔA| < 1 and |ΔS| < s_tolerance, and keeps the best (k_s, g) it saw.
+// Where a channel would need a contrast above kContrastCeiling, the density
+// scale (shared by the channels) rises instead (raise_density_scale).
 void FitSession::fit_contrast() {
-    std::array<double, 3> k = outcome_.ks, g = outcome_.contrast_start;
-    // dA/dk_s, measured at contrast 1 by the k_s search and corrected by
-    // every step (at another contrast the slope differs, and Newton steps
-    // with the first slope swing back and forth or creep).
-    std::array<double, 3> slope = brightness_slopes();
-    std::array<double, 3> delta_prev{};
-    std::array<bool, 3> done{};
-    std::array<double, 3> best_score{1e300, 1e300, 1e300};
-    std::array<double, 3> g_prev{}, s_prev{};
-    bool have_prev = false;
+    ContrastSearch st;
+    st.k = outcome_.ks;
+    st.g = outcome_.contrast_start;
+    st.slope = brightness_slopes();
     const int block = material_block(outcome_.estimated_error);
     const std::array<double, 3> s_photo = photo_spread(photo_, pixels_per_side_ / block);
     while (fitting_renders() + 2 <= options_.max_renders) {
-        const RenderResult shading = fitting_render(k, {0.0, 0.0, 0.0});
-        record(k, {0.0, 0.0, 0.0}, shading.film).shading = true;
-        const RenderResult r = fitting_render(k, g);
-        const std::array<double, 3> s_mat = material_spread(r.film, shading.film, outcome_.exposure, block);
-        FitRecord& rec = record(k, g, r.film);
-        rec.s_material = s_mat;
+        const SplitFilms shading = split_render(st.k, {0.0, 0.0, 0.0});
+        record(st.k, {0.0, 0.0, 0.0}, shading.merged()).shading = true;
+        const SplitFilms r = split_render(st.k, st.g);
+        const MaterialSpread spread = material_spread(r, shading, outcome_.exposure, block);
+        FitRecord& rec = record(st.k, st.g, r.merged());
+        rec.s_material = spread.s;
+        rec.s_material_noise = spread.noise;
         rec.s_photo_scaled = s_photo;
         bool all_done = true;
+        st.g_last = st.g;
+        st.s_last = spread.s;
+        st.delta_last = rec.delta;
         for (int c = 0; c < 3; ++c) {
-            const double score = std::max(std::abs(rec.delta[c]) / limits_.tolerance,
-                                          std::abs(s_mat[c] - s_photo[c]) / options_.s_tolerance);
-            if (score < best_score[c]) {
-                best_score[c] = score;
-                outcome_.ks[c] = k[c];
-                outcome_.contrast[c] = g[c];
-                outcome_.s_material[c] = s_mat[c];
-            }
-            if (score < 1.0) done[c] = true;
-            if (done[c]) continue;
-            all_done = false;
-            // A Newton step that left the ratio r = ΔA_now / ΔA_before took a
-            // slope 1 − r times the true one: r < 0 overshot (too shallow),
-            // 0 < r < 1 fell short (too steep). Steps near the goal are
-            // noise, and a step the contrast moved a lot is not k_s's alone,
-            // so the factor is bounded.
-            if (have_prev && std::abs(delta_prev[c]) > 2.0 * limits_.tolerance) {
-                const double factor = 1.0 - rec.delta[c] / delta_prev[c];
-                if (factor > 0.0) slope[c] *= std::clamp(factor, 0.25, 4.0);
-            }
-            delta_prev[c] = rec.delta[c];
-            const double g_next = next_contrast(g[c], s_mat[c], s_photo[c], have_prev, g_prev[c], s_prev[c]);
-            g_prev[c] = g[c];
-            s_prev[c] = s_mat[c];
-            k[c] = std::clamp(k[c] - rec.delta[c] / slope[c], k_min_at(c, g_next), limits_.k_max);
-            g[c] = g_next;
+            contrast_step(st, c, rec.delta[c], spread.s[c], s_photo[c]);
+            all_done = all_done && st.done[c];
         }
-        have_prev = true;
+        st.have_prev = true;
         if (all_done) break;
+        // A step in density scale needs two more steps to be judged.
+        if (options_.fit_density && fitting_renders() + 4 <= options_.max_renders) raise_density_scale(st, s_photo);
     }
     outcome_.s_photo = s_photo;
     outcome_.material_block = block;
+    outcome_.density_scale = density_scale_;
     outcome_.converged = true;
     for (int c = 0; c < 3; ++c) {
-        outcome_.state[c] = done[c] ? ChannelState::Converged : ChannelState::Unreachable;
+        outcome_.state[c] = st.done[c] ? ChannelState::Converged : ChannelState::Unreachable;
         outcome_.reason[c].clear();
-        if (!done[c]) {
+        if (!st.done[c]) {
             outcome_.converged = false;
-            char why[256];
+            char why[320];
             std::snprintf(why, sizeof why,
                           "%s: A and S_material not both matched (|dA| < %.1f, |dS| < %.1f) within "
                           "--fit-max-renders %d; the best k_s and contrast are kept (S %.1f against the photo's %.1f)",
@@ -410,6 +473,89 @@ void FitSession::fit_contrast() {
             outcome_.reason[c] = why;
         }
     }
+}
+
+// One channel's part of a step of --fit contrast, after a render that gave
+// ΔA = delta and S_material = s: keep the best (k_s, g), stop when both
+// match, else the next k_s and g.
+void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s, double s_photo) {
+    const double score = std::max(std::abs(delta) / limits_.tolerance, std::abs(s - s_photo) / options_.s_tolerance);
+    if (score < st.best_score[c]) {
+        st.best_score[c] = score;
+        outcome_.ks[c] = st.k[c];
+        outcome_.contrast[c] = st.g[c];
+        outcome_.s_material[c] = s;
+    }
+    if (score < 1.0) st.done[c] = true;
+    if (st.done[c]) return;
+    // A Newton step that left the ratio r = ΔA_now / ΔA_before took a
+    // slope 1 − r times the true one: r < 0 overshot (too shallow),
+    // 0 < r < 1 fell short (too steep). Steps near the goal are noise, and
+    // a step the contrast moved a lot is not k_s's alone, so the factor is
+    // bounded.
+    if (st.have_prev && std::abs(st.delta_prev[c]) > 2.0 * limits_.tolerance) {
+        const double factor = 1.0 - delta / st.delta_prev[c];
+        if (factor > 0.0) st.slope[c] *= std::clamp(factor, 0.25, 4.0);
+    }
+    st.delta_prev[c] = delta;
+    const double g_next = next_contrast(st.g[c], s, s_photo, st.have_prev, st.g_prev[c], st.s_prev[c]);
+    st.g_prev[c] = st.g[c];
+    st.s_prev[c] = s;
+    st.k[c] = std::clamp(st.k[c] - delta / st.slope[c], k_min_at(c, g_next), limits_.k_max);
+    st.g[c] = g_next;
+}
+
+// Where a channel's next contrast is above kContrastCeiling, the density
+// scale rises instead. The channel's S must still grow by the photo's S over
+// the S its render had at the ceiling (S grows about in proportion to the
+// contrast up to it); the density scale rises by the factor expected to
+// give that (S ∝ density scale^α), for the channel that needs most. Every
+// channel's contrast then starts from the proportional rule at the S the
+// new density scale is expected to give, so the channel that needed most
+// starts at the ceiling. The search starts again at the new density scale:
+// no channel is done, the best (k_s, g) and the contrasts' secants are
+// forgotten (they belong to the old one); k_s's slope is kept, but the next
+// step does not correct it.
+void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double, 3>& s_photo) {
+    double need = 1.0;
+    for (int c = 0; c < 3; ++c)
+        if (!st.done[c] && st.g[c] > kContrastCeiling && st.s_last[c] > 0.0)
+            need = std::max(need, s_photo[c] / st.s_last[c] * std::min(1.0, st.g_last[c] / kContrastCeiling));
+    const double room = outcome_.density_scale_start * kMaxDensityGain / density_scale_;
+    measure_density_exponent(st);
+    const double gain = std::min({std::pow(need, 1.0 / st.alpha), kMaxDensityStep, room});
+    if (!(gain >= kMinDensityStep)) return;
+    st.g_at_raise = st.g_last;
+    st.s_at_raise = st.s_last;
+    st.delta_at_raise = st.delta_last;
+    st.density_at_raise = density_scale_;
+    set_density_scale(density_scale_ * gain);
+    const double s_gain = std::pow(gain, st.alpha);
+    for (int c = 0; c < 3; ++c) {
+        if (st.s_last[c] > 0.0)
+            st.g[c] = std::clamp(st.g_last[c] * s_photo[c] / (st.s_last[c] * s_gain), 0.0, kMaxContrast);
+        st.k[c] = std::clamp(st.k[c], k_min_at(c, st.g[c]), limits_.k_max);
+        st.done[c] = false;
+        st.best_score[c] = 1e300;
+    }
+    st.have_prev = false;
+}
+
+// α from the last step in density scale: the mean over the channels that
+// were rendered at the same contrast at both density scales, each time
+// within two tolerances of the photo's A (S changes with the brightness
+// too: a render far from A says little about the density scale's share).
+void FitSession::measure_density_exponent(ContrastSearch& st) const {
+    if (!(st.density_at_raise > 0.0)) return;
+    const double log_gain = std::log(density_scale_ / st.density_at_raise);
+    const double near = 2.0 * limits_.tolerance;
+    double sum = 0.0;
+    int n = 0;
+    for (int c = 0; c < 3; ++c)
+        if (std::abs(st.g_last[c] - st.g_at_raise[c]) <= 0.01 * st.g_last[c] && st.s_last[c] > 0.0 &&
+            st.s_at_raise[c] > 0.0 && std::abs(st.delta_last[c]) <= near && std::abs(st.delta_at_raise[c]) <= near)
+            sum += std::log(st.s_last[c] / st.s_at_raise[c]) / log_gain, ++n;
+    if (n > 0) st.alpha = std::clamp(sum / n, kDensityExponentMin, kDensityExponentMax);
 }
 
 }  // namespace jade

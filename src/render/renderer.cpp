@@ -123,7 +123,8 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
     // exit tables take seconds): error against time is the user's time.
     const Stopwatch clock;
     const Integrator integrator(scene, settings.integrator, settings.seed);
-    RenderResult result{Film(camera.width(), camera.height()), {}, {}, 0.0};
+    RenderResult result;
+    result.film = Film(camera.width(), camera.height());
     result.stopped_by = "spp";
     result.setup_seconds = clock.seconds();
     result.sphere_exit_bytes = integrator.sphere_exit_bytes();
@@ -169,6 +170,27 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
     for (int y = 0; y < camera.height(); ++y)
         for (int x = 0; x < camera.width(); ++x) result.unsampled_pixels += result.film.samples(x, y) == 0 ? 1 : 0;
     return result;
+}
+
+Film SplitFilms::merged() const {
+    Film film = first;
+    film.merge(second);
+    return film;
+}
+
+SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                         PathCounters* counters) {
+    settings.validate();
+    if (settings.spp < 2) throw Error("internal: a render in halves needs at least 2 samples per pixel");
+    const Integrator integrator(scene, settings.integrator, settings.seed);
+    const PixelBounds whole{0, 0, camera.width(), camera.height()};
+    const int half = settings.spp / 2;
+    SplitFilms films{Film(camera.width(), camera.height()), Film(camera.width(), camera.height())};
+    PathCounters local;
+    add_samples(scene, integrator, camera, settings, {0, half}, whole, films.first, local, nullptr);
+    add_samples(scene, integrator, camera, settings, {half, settings.spp}, whole, films.second, local, nullptr);
+    if (counters) *counters += local;
+    return films;
 }
 
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes) {

@@ -79,6 +79,14 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
         settings.spp = 37;
         CHECK(identical(render(scene, camera, settings).film, whole));
     }
+    SECTION("a render in halves: merged, the same film; apart, the two sample ranges") {
+        settings.spp = 37;
+        const SplitFilms halves = render_halves(scene, camera, settings);
+        CHECK(halves.first.spp() == 18);
+        CHECK(halves.second.spp() == 19);
+        CHECK(identical(halves.first, render_pass(scene, camera, settings, {0, 18}, all)));
+        CHECK(identical(halves.merged(), whole));
+    }
     SECTION("a different seed gives a different image") {
         settings.seed = 8;
         CHECK_FALSE(identical(render_pass(scene, camera, settings, {0, 37}, all), whole));

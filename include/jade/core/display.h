@@ -16,6 +16,9 @@ double srgb_decode(double encoded);
 // Linear radiance (already multiplied by its exposure) → 8-bit display level:
 // clamped to [0, 1], sRGB-encoded, rounded.
 std::uint8_t display_level(double linear);
+// The same level before rounding (statistics over many pixels: means and
+// spreads of levels without the rounding's steps).
+double continuous_level(double linear);
 // An already-encoded value in [0, 1] (an 8-bit or 16-bit file's) → level.
 std::uint8_t level_of_encoded(double encoded);
 

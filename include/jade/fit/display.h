@@ -11,6 +11,7 @@
 // reversed; its text is right).
 
 #include "jade/render/film.h"
+#include "jade/render/renderer.h"
 #include "jade/volume/histogram.h"
 #include "jade/volume/photo.h"
 #include "jade/volume/texture_spectrum.h"
@@ -54,18 +55,31 @@ double level_slope(double linear);
 // object whose shading (the light's falloff, the rim, the highlight) spreads
 // its levels as much as the stone does; S of the whole render cannot tell
 // the two apart. `shading` is the same render with the volume's mean medium
-// (contrast 0) under the same random numbers. Both are averaged over blocks
-// of block × block pixels (a fitting render's per-pixel noise is as large as
-// the stone's contrast; a block's is block times smaller), each block is
-// Each pixel is flattened, render / shading, scaled so that the flattened
-// image has the render's mean level A (where the renders share paths, their
-// noise cancels in the ratio); pixels whose shading is below 5 % of its mean (the
-// dark rim) are left out: their ratio says nothing. The flattened image is
-// averaged over blocks of block × block pixels (a fitting render's per-pixel
-// noise is as large as the stone's contrast; a block's is block times
-// smaller) and S is the spread of the blocks' levels. Compare it with
-// photo_spread at the block's scale.
-std::array<double, 3> material_spread(const Film& render, const Film& shading, float exposure, int block);
+// (contrast 0) under the same random numbers. Each pixel is flattened,
+// render / shading, scaled so that the flattened image has the render's
+// mean level A (where the renders share paths, their noise cancels in the
+// ratio); pixels whose shading is below 5 % of its mean (the dark rim) are
+// left out: their ratio says nothing. The flattened image is averaged over
+// blocks of block × block pixels (a fitting render's per-pixel noise is as
+// large as the stone's contrast; a block's is block times smaller) and S is
+// the spread of the blocks' levels. Compare it with photo_spread at the
+// block's scale.
+//
+// What noise the ratio and the blocks leave still widens the spread, and
+// the more so the noisier the renders: the light's rare paths are heavy-
+// tailed, and neither the film's per-pixel variance nor the shared paths
+// account for them. Both renders come in two independent halves
+// (render_halves); the blocks' levels of the halves' flattened images, L₁
+// and L₂, share the image and not the noise, so S² = Cov(L₁, L₂) over the
+// blocks estimates the converged render's spread at any sample count
+// (within its own scatter). Subtracting Var(L₁ − L₂)/4 from the whole
+// render's spread instead was tried: with noise as large as the spread the
+// sRGB curve makes it read 12 % low.
+struct MaterialSpread {
+    std::array<double, 3> s{};      // the spread, the noise's share taken out
+    std::array<double, 3> noise{};  // the noise's share of the whole render's spread: √(S_whole² − S²), levels
+};
+MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shading, float exposure, int block);
 
 // The flattened render itself as an image (above: render / shading at the
 // render's mean level), averaged over block × block pixels: the stone as a

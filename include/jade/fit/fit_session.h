@@ -34,6 +34,10 @@ struct FitOptions {
     std::optional<std::array<double, 3>> ks_start;  // default: the volume's own k_s
     std::optional<std::array<double, 3>> contrast_start;  // default: the volume's own contrast
     double s_tolerance = 1.5;   // |ΔS_material| goal of --fit contrast, gray levels
+    // --fit contrast may raise the density scale where the contrast alone
+    // would have to clip many voxels (docs/design.md, "Contrast"); false
+    // keeps the volume's own.
+    bool fit_density = true;
     int width = 0;              // fitting renders: 0 = a quarter of the camera's width (at least 32)
     int spp = 0;                // 0 = chosen by the first fitting render
     double noise = 0.3;         // standard error of A, gray levels, the chosen spp must reach
@@ -52,10 +56,13 @@ struct FitRecord {
     int spp = 0;
     std::array<double, 3> ks{}, a_photo{}, a_render{}, a_sigma{}, delta{}, distance{};
     std::array<double, 3> contrast{1, 1, 1};
+    double density_scale = 0.0;                    // OpticalParams::density_scale of the render
     std::array<double, 3> s_photo{}, s_render{};   // spread S of the levels (fit/appearance.h)
     // S_material (fit/display.h) and the photo's S at the scale of its blocks
     // (fit/appearance.h); -1 where no shading render was made.
     std::array<double, 3> s_material{-1, -1, -1}, s_photo_scaled{-1, -1, -1};
+    // The render noise's share taken out of S_material (MaterialSpread::noise).
+    std::array<double, 3> s_material_noise{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
     // Shares of the render's object pixels at display level 0 and 255 (a
     // render that clips has a brightness that is only a bound).
@@ -67,6 +74,9 @@ struct FitOutcome {
     std::array<double, 3> ks{};           // fitted: the best found per channel
     std::array<double, 3> ks_start{};
     std::array<double, 3> contrast{1, 1, 1}, contrast_start{1, 1, 1};
+    // The density scale fitted (--fit contrast; the volume's own otherwise)
+    // and the volume's own, where the fit started.
+    double density_scale = 0.0, density_scale_start = 0.0;
     // S_material and the photo's S at the fitting scale at the chosen k_s and
     // contrast (--fit contrast only; -1 otherwise).
     std::array<double, 3> s_material{-1, -1, -1}, s_photo{-1, -1, -1};
@@ -96,14 +106,23 @@ public:
 
 private:
     RenderResult fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
+    SplitFilms split_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
+    template <class How>
+    auto with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
+                     How how) const;
     FitRecord& record(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, const Film& film);
     void bracket(FitDriver& driver);
     void finish(const FitDriver& driver);
+    struct ContrastSearch;
     void fit_contrast();
+    void contrast_step(ContrastSearch& search, int channel, double delta, double s, double s_photo);
+    void raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
+    void measure_density_exponent(ContrastSearch& search) const;
     void mark_clipped_channels();
     const FitRecord* final_record(int c) const;
     std::array<double, 3> brightness_slopes() const;
     double k_min_at(int channel, double contrast) const;
+    void set_density_scale(double density_scale);
     int fitting_renders() const;
 
     const MaterialVolume& volume_;
@@ -117,6 +136,9 @@ private:
     RgbHistogram photo_histogram_;
     TextureSpectrum photo_spectrum_;
     double pixels_per_side_;   // of the fitting renders, where the object stands
+    // The density scale of the fitting renders and the majorant they share
+    // (that of k_s = k_max at every contrast, at this density scale).
+    double density_scale_;
     Spectrum shared_majorant_;
     Stopwatch clock_;
     Progress* progress_ = nullptr;

@@ -91,6 +91,19 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
                     Progress* progress = nullptr,
                     const std::function<void(const PassRecord&)>& on_pass = nullptr);
 
+// A render of settings.spp samples per pixel (no time budget or target
+// error) kept as two independent halves: samples [0, n/2) and [n/2, n).
+// Merged (Film::merge) they are bit-identical to render()'s film; their
+// difference holds the render's noise and nothing of the image, which is
+// how a statistic of the image is freed of the noise's share (the fit's
+// S_material, fit/display.h). The integrator is set up once for both.
+struct SplitFilms {
+    Film first, second;
+    Film merged() const;
+};
+SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                         PathCounters* counters = nullptr);
+
 // pass,spp,seconds,estimated_rel_error,rmse,rel_mse — written whole or not at all.
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes);
 
