@@ -553,6 +553,12 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit-spp-max", o.fit.spp_max, "Most samples per pixel a fitting render doubles to")
         ->capture_default_str();
     app.add_option("--fit-max-renders", o.fit.max_renders, "Most fitting renders")->capture_default_str();
+    app.add_option("--final-match", o.final_match,
+                   "After the fit, check A against the photo at the final render's size (a quarter of its "
+                   "samples, at least 64); where a channel is off by more than 1 level (the fitting renders are "
+                   "smaller, and A falls with size), correct its k_s before the final render; false: keep the "
+                   "fitted k_s")
+        ->capture_default_str();
     app.add_flag("--measure-material", o.measure_material,
                  "Also render the final render's shading (the mean medium) and report the material's S and D "
                  "against the photo with the shading divided out (about one more final render)");
@@ -616,6 +622,19 @@ int run_pipeline(PipelineFlags& p) {
                     best->a_render[2], best->delta[0], best->delta[1], best->delta[2], best->a_sigma[0],
                     best->a_sigma[1], best->a_sigma[2]);
     const jade::PassRecord& last = r.final_render.passes.back();
+    if (const auto& b = r.brightness_check) {
+        std::printf("brightness check, %d spp in %.1f s: A at full size less A at the fitting size (%+.2f, %+.2f, "
+                    "%+.2f), so dA (%+.2f, %+.2f, %+.2f) expected",
+                    b->spp, b->seconds, b->size_change[0], b->size_change[1], b->size_change[2], b->delta[0],
+                    b->delta[1], b->delta[2]);
+        if (b->corrected())
+            std::printf("; k_s corrected to (%.4f, %.4f, %.4f) (fitting renders: %d), dA (%+.2f, %+.2f, %+.2f) "
+                        "expected\n",
+                        b->ks_after[0], b->ks_after[1], b->ks_after[2], b->renders, b->expected[0], b->expected[1],
+                        b->expected[2]);
+        else
+            std::printf("; k_s kept\n");
+    }
     std::printf("final render: %d spp in %.1f s, estimated relative error %.4f\n", last.spp,
                 r.final_render.seconds, last.estimated_error);
     const jade::Appearance& look = r.final_look;
@@ -638,9 +657,9 @@ int run_pipeline(PipelineFlags& p) {
                     r.structure.chosen.noise.stretch, r.structure.chosen.noise.angle, r.structure.chosen.noise.bands,
                     r.structure.chosen.noise.warp, r.structure.chosen.distance,
                     r.structure.paper.distance);
-    std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, final render %.2f, writing %.2f; total %.1f; "
-                "peak memory %s\n",
-                r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_render, r.seconds_write,
+    std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, brightness check %.2f, final render %.2f, writing %.2f; "
+                "total %.1f; peak memory %s\n",
+                r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_check, r.seconds_render, r.seconds_write,
                 r.seconds_total, jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
     std::printf("outputs in %s/:", r.out_dir.c_str());
     for (const auto& f : r.written) std::printf(" %s", std::filesystem::path(f).filename().c_str());

@@ -90,6 +90,27 @@ MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScen
                             render_pixels_per_side(prep.camera, volume.cube));
 }
 
+// At the final render's size A differs from the fitting renders'
+// (FitSession::final_brightness): measured at a quarter of the final
+// render's samples (at least 64); where a channel is off by more than the
+// tolerance, its k_s moves before the final render.
+void check_final_brightness(const PipelineOptions& o, const PreparedScene& prep, const FitSession& session,
+                            MaterialVolume& volume, PipelineResult& res) {
+    const Stopwatch clock;
+    BrightnessCheck check;
+    check.spp = std::max(64, o.render.settings.spp / 4);
+    const FitSession::FinalBrightness f = session.final_brightness(prep.camera, check.spp);
+    check.seconds = clock.seconds();
+    check.delta = f.delta;
+    check.size_change = f.size_change;
+    check.expected = f.expected;
+    check.renders = f.renders;
+    check.ks_before = volume.optics.ks;
+    check.ks_after = f.ks;
+    volume.optics.ks = f.ks;
+    res.brightness_check = check;
+}
+
 // The final render as a job that replays it from the written volume, with the
 // camera it used and the fitted exposure.
 RenderJob replay_job(const PipelineOptions& o, const PreparedScene& prep, const std::string& dir,
@@ -203,11 +224,13 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     MaterialVolume volume = make_volume(o, photo, prep->cube, res);
     res.seconds_volume = clock.seconds();
 
+    FitSession session(volume, prep->scene, prep->camera, o.render.settings, photo, o.fit);
     {
         std::unique_ptr<Progress> bar;
         if (o.progress && o.fit.method != FitMethod::None)
- bar = std::make_unique<Progress>(o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast" : "fitting k_s", std::size_t(o.fit.max_renders));
-        FitSession session(volume, prep->scene, prep->camera, o.render.settings, photo, o.fit);
+            bar = std::make_unique<Progress>(o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast"
+                                                                                 : "fitting k_s",
+                                             std::size_t(o.fit.max_renders));
         res.fit = session.run(bar.get());
         res.seconds_fit = res.fit.seconds;
     }
@@ -216,6 +239,9 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     volume.optics.density_scale = res.fit.density_scale;
     volume.exposure = res.fit.exposure;
 
+    clock = Stopwatch();
+    if (o.final_match && o.fit.method != FitMethod::None) check_final_brightness(o, *prep, session, volume, res);
+    res.seconds_check = clock.seconds();
     clock = Stopwatch();
     res.final_render = final_render(o, *prep, MaterialVolumeMedium(volume, volume.cube), "final render");
     res.seconds_render = clock.seconds();

@@ -200,6 +200,11 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"capped_paths", res.final_render.counters.capped_paths},
                          {"sphere_walks", res.final_render.counters.sphere_walks},
                          {"A_render", in.final_stats.a}};
+    if (const auto& b = res.brightness_check)
+        j["brightness_check"] = {{"spp", b->spp}, {"seconds", b->seconds}, {"A_size_change", b->size_change},
+                                 {"delta_A", b->delta}, {"fitting_renders", b->renders},
+                                 {"delta_A_expected", b->expected},
+                                 {"ks_before", b->ks_before}, {"ks", b->ks_after}, {"corrected", b->corrected()}};
     j["appearance"] = appearance_json(res.final_look);
     if (res.material)  // the material with the shading divided out (fit/appearance.h)
         j["appearance"]["material"] = {{"S_material", res.material->s_material},
@@ -223,7 +228,7 @@ std::string pipeline_report(const PipelineReport& in) {
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
     j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
-                    {"final_render", res.seconds_render}, {"shading_render", res.seconds_shading},
+                    {"brightness_check", res.seconds_check}, {"final_render", res.seconds_render}, {"shading_render", res.seconds_shading},
                     {"write", res.seconds_write},
                     {"total", res.seconds_total}};
     j["peak_memory_bytes"] = peak_rss_bytes();

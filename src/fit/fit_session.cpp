@@ -28,17 +28,16 @@ std::array<int, 3> lowest_levels(const MaterialVolume& volume) {
 }
 
 // The smallest k_s keeps σ_s = v'·d_s + k_s >= 0 in the lowest voxel.
-double k_min_for(const MaterialVolume& volume, int lowest_level, int c, double contrast) {
-    OpticalParams optics = volume.optics;
+double k_min_for(OpticalParams optics, int lowest_level, int c, double contrast) {
     optics.contrast[c] = contrast;
     return -contrasted_level(lowest_level, c, optics) * optics.ds;
 }
 
-FitLimits limits_for(const MaterialVolume& volume, const std::array<int, 3>& lowest,
+FitLimits limits_for(const OpticalParams& optics, const std::array<int, 3>& lowest,
                      const std::array<double, 3>& contrast, double k_max) {
     FitLimits limits;
     limits.k_max = k_max;
-    for (int c = 0; c < 3; ++c) limits.k_min[c] = k_min_for(volume, lowest[c], c, contrast[c]);
+    for (int c = 0; c < 3; ++c) limits.k_min[c] = k_min_for(optics, lowest[c], c, contrast[c]);
     return limits;
 }
 
@@ -96,7 +95,8 @@ int fitting_width(const CameraParams& camera, const FitOptions& options) {
 FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
                        const RenderSettings& settings, const Photo& photo, const FitOptions& options)
     : volume_(volume), scene_(scene), photo_(photo), options_(options), lowest_level_(lowest_levels(volume)),
-      limits_(limits_for(volume, lowest_level_, options.contrast_start.value_or(volume.optics.contrast),
+      optics_(volume.optics),
+      limits_(limits_for(volume.optics, lowest_level_, options.contrast_start.value_or(volume.optics.contrast),
                          options.k_max)),
       camera_(at_width(camera, fitting_width(camera, options))), settings_(settings),
       photo_histogram_(RgbHistogram::of(photo.foreground_levels())), photo_spectrum_(photo_spectrum(photo)),
@@ -111,7 +111,7 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
 
 void FitSession::set_density_scale(double density_scale) {
     density_scale_ = density_scale;
-    OpticalParams at_max = volume_.optics;
+    OpticalParams at_max = optics_;
     at_max.density_scale = density_scale;
     at_max.ks = {limits_.k_max, limits_.k_max, limits_.k_max};
     // Clipped at every level: the largest σ_t any contrast the fit tries gives.
@@ -125,7 +125,7 @@ void FitSession::set_density_scale(double density_scale) {
 template <class How>
 auto FitSession::with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
                              How how) const {
-    OpticalParams optics = volume_.optics;
+    OpticalParams optics = optics_;
     optics.ks = ks;
     optics.contrast = contrast;
     optics.density_scale = density_scale_;
@@ -239,10 +239,10 @@ FitOutcome FitSession::run(Progress* progress) {
     outcome_.spp = options_.spp;
     outcome_.width = camera_.width();
     outcome_.height = camera_.height();
-    outcome_.ks_start = options_.ks_start.value_or(volume_.optics.ks);
-    outcome_.contrast_start = options_.contrast_start.value_or(volume_.optics.contrast);
-    outcome_.density_scale_start = volume_.optics.density_scale;
-    set_density_scale(volume_.optics.density_scale);
+    outcome_.ks_start = options_.ks_start.value_or(optics_.ks);
+    outcome_.contrast_start = options_.contrast_start.value_or(optics_.contrast);
+    outcome_.density_scale_start = optics_.density_scale;
+    set_density_scale(optics_.density_scale);
     outcome_.exposure = options_.exposure;
     outcome_.exposure_matched = options_.exposure == 0.f;
     const bool fitting = options_.method != FitMethod::None;
@@ -273,6 +273,7 @@ FitOutcome FitSession::run(Progress* progress) {
 
 void FitSession::finish(const FitDriver& driver) {
     const bool fitting = options_.method != FitMethod::None;
+    if (fitting && outcome_.records.size() >= 2) outcome_.brightness_slope = brightness_slopes();
     outcome_.converged = true;
     outcome_.contrast = outcome_.contrast_start;
     outcome_.density_scale = density_scale_;
@@ -338,8 +339,62 @@ const FitRecord* FitSession::final_record(int c) const {
 
 int FitSession::fitting_renders() const { return int(outcome_.records.size()); }
 
+namespace {
+// The most fitting renders the brightness check takes to move k_s.
+constexpr int kMaxBrightnessRenders = 3;
+}  // namespace
+
+FitSession::FinalBrightness FitSession::final_brightness(const CameraParams& full, int spp) const {
+    FinalBrightness f;
+    f.ks = outcome_.ks;
+    const PinholeCamera full_camera(full);
+    const auto look = [&](const PinholeCamera& camera, const std::array<double, 3>& ks, int samples) {
+        const Film film = with_medium(ks, outcome_.contrast, samples,
+                                      [&](const Scene& scene, const RenderSettings& settings) {
+                                          return render(scene, camera, settings).film;
+                                      });
+        return display_statistics(film, outcome_.exposure);
+    };
+    const DisplayStatistics at_full = look(full_camera, f.ks, spp), at_fit = look(camera_, f.ks, spp);
+    if (at_full.pixels == 0 || at_fit.pixels == 0) return f;
+    std::array<bool, 3> fitted{};
+    for (int c = 0; c < 3; ++c) {
+        const FitRecord* r = final_record(c);
+        fitted[c] = r && outcome_.brightness_slope[c] > 0.0;
+        f.size_change[c] = at_full.a[c] - at_fit.a[c];
+        f.delta[c] = fitted[c] ? r->delta[c] + f.size_change[c] : 0.0;
+    }
+    f.expected = f.delta;
+    // Secant steps at the fitting size toward A_photo − size_change, from
+    // the fit's slope (a bisection's slope is a secant over the whole
+    // bracket, and A is curved in k_s: the local one is found here).
+    std::array<double, 3> slope = outcome_.brightness_slope;
+    for (int step = 0; step < kMaxBrightnessRenders; ++step) {
+        std::array<double, 3> k = f.ks;
+        bool moved = false;
+        for (int c = 0; c < 3; ++c)
+            if (fitted[c] && std::abs(f.expected[c]) >= limits_.tolerance) {
+                k[c] = std::clamp(f.ks[c] - f.expected[c] / slope[c], k_min_at(c, outcome_.contrast[c]),
+                                  limits_.k_max);
+                moved = moved || k[c] != f.ks[c];
+            }
+        if (!moved) break;
+        const DisplayStatistics st = look(camera_, k, outcome_.spp);
+        for (int c = 0; c < 3; ++c) {
+            if (k[c] == f.ks[c]) continue;
+            const double expected = st.a[c] - photo_histogram_.mean(c) + f.size_change[c];
+            const double secant = (expected - f.expected[c]) / (k[c] - f.ks[c]);
+            if (secant > 0.0) slope[c] = secant;
+            f.ks[c] = k[c];
+            f.expected[c] = expected;
+        }
+        ++f.renders;
+    }
+    return f;
+}
+
 double FitSession::k_min_at(int c, double contrast) const {
-    return k_min_for(volume_, lowest_level_[c], c, contrast);
+    return k_min_for(optics_, lowest_level_[c], c, contrast);
 }
 
 // dA/dk_s per channel near the fitted k_s, from the k_s-only renders: the
@@ -458,6 +513,7 @@ void FitSession::fit_contrast() {
     outcome_.s_photo = s_photo;
     outcome_.material_block = block;
     outcome_.density_scale = density_scale_;
+    outcome_.brightness_slope = st.slope;
     outcome_.converged = true;
     for (int c = 0; c < 3; ++c) {
         outcome_.state[c] = st.done[c] ? ChannelState::Converged : ChannelState::Unreachable;

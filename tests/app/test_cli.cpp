@@ -566,17 +566,20 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     CHECK(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kBlob +
                        " --width 16 --height 16 --spp 2 --out " + dir.file("o/other.exr")).code == 0);
     CHECK_FALSE(json_field(slurp(dir.file("o/report.json")), "total").empty());
-    // Given back to the pipeline with --fit none, the volume keeps its fitted k_s.
+    // Given back to the pipeline with --fit none, the volume keeps its fitted
+    // k_s (those of the brightness check where it corrected them) and contrast.
     const Result again = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --volume " +
                                       dir.file("o/volume.vdb") + " --fit none --out " + dir.file("o2"));
     INFO(again.out << again.err);
     REQUIRE(again.code == 0);
-    auto printed_ks = [](const std::string& out) {  // "k_s = (r, g, b); contrast (r, g, b)" of the summary
-        const auto at = out.find("k_s = (");
-        return at == std::string::npos ? std::string() : out.substr(at, out.find(')', out.find("contrast (", at)) - at);
+    auto printed = [](const std::string& out, const std::string& label) {  // "label(r, g, b)" of the summary
+        const auto at = out.find(label);
+        return at == std::string::npos ? std::string() : out.substr(at + label.size(), out.find(')', at) - at - label.size());
     };
-    CHECK_FALSE(printed_ks(r.out).empty());
-    CHECK(printed_ks(again.out) == printed_ks(r.out));
+    const bool corrected = !printed(r.out, "k_s corrected to (").empty();
+    CHECK_FALSE(printed(r.out, "k_s = (").empty());
+    CHECK(printed(again.out, "k_s = (") == printed(r.out, corrected ? "k_s corrected to (" : "k_s = ("));
+    CHECK(printed(again.out, "contrast (") == printed(r.out, "contrast ("));
 
     const std::string base = "--photo " + photo + " --mesh " + kCow + kSmall;
     struct Bad {

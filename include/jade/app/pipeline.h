@@ -35,15 +35,33 @@ struct PipelineOptions {
     // with the photo, shading divided out (fit/appearance.h,
     // compare_material). Costs about one more final render.
     bool measure_material = false;
+    // After a fit, check A at the final render's size (renders at both sizes
+    // with a quarter of its samples, at least 64): where a channel is off by
+    // more than the fit's tolerance, its k_s moves before the final render
+    // (FitSession::final_brightness).
+    bool final_match = true;
     // The .vdb's coefficient grids turned Z-up (Blender) instead of Y-up
     // (glTF, Houdini); they are always masked to the mesh (io/vdb_io.h).
     bool vdb_z_up = false;
     std::string vdb_color_name = "color";  // or "Cd" for Houdini
 };
 
+// The check of A at the final render's size (PipelineOptions::final_match):
+// its samples per pixel and seconds, the change of A from the fitting size
+// to the final one, the ΔA expected there at the fitted k_s, the k_s after
+// the check (the same where every channel was within the tolerance), the
+// ΔA expected at those, and the fitting renders the steps took.
+struct BrightnessCheck {
+    int spp = 0, renders = 0;
+    double seconds = 0.0;
+    std::array<double, 3> size_change{}, delta{}, ks_before{}, ks_after{}, expected{};
+    bool corrected() const { return ks_after != ks_before; }
+};
+
 struct PipelineResult {
     std::string out_dir;
     FitOutcome fit;
+    std::optional<BrightnessCheck> brightness_check;
     StructureEstimate structure;      // when the structure was estimated from the photo
     bool structure_estimated = false;
     RenderResult final_render;
@@ -52,8 +70,8 @@ struct PipelineResult {
     GltfPreviewMaterial preview;      // preview.glb's stand-in material (io/gltf_preview.h)
     std::vector<std::string> warnings;
     std::vector<std::string> written;
-    double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_render = 0,
-           seconds_shading = 0, seconds_write = 0, seconds_total = 0;
+    double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_check = 0,
+           seconds_render = 0, seconds_shading = 0, seconds_write = 0, seconds_total = 0;
 };
 
 PipelineResult run_pipeline(const PipelineOptions& options);

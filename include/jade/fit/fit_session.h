@@ -89,13 +89,18 @@ struct FitOutcome {
     FitLimits limits;
     std::vector<FitRecord> records;
     int spp = 0, width = 0, height = 0;   // of the fitting renders
+    // dA/dk_s per channel near the fitted k_s (gray levels per unit), as the
+    // fit last measured it; 0 when it measured none.
+    std::array<double, 3> brightness_slope{};
     double estimated_error = 0.0;         // of the first fitting render
     double seconds = 0.0;
 };
 
 class FitSession {
 public:
-    // Everything is referenced, not copied: it must outlive the session.
+    // Everything is referenced, not copied: it must outlive the session (the
+    // volume's optical parameters are copied: the fitted ones may be set on
+    // it after run()).
     FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
                const RenderSettings& settings, const Photo& photo, const FitOptions& options);
     // The smallest k_s per channel: σ_s = v·d_s + k_s reaches 0 in the lowest voxel.
@@ -103,6 +108,25 @@ public:
     // A fitting render at `ks` and `contrast` with `spp` samples per pixel.
     RenderResult render_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp) const;
     FitOutcome run(Progress* progress = nullptr);
+    // The fitting renders are a quarter of the final render's width: at full
+    // size the material's finer structure and the highlights' clipping
+    // lower A (sRGB is concave; the demo's blue by 2.3 levels from 128² to
+    // 512²). Renders at the outcome's k_s, contrast and density scale at the
+    // fitting size and at `full`'s, both with `spp` samples per pixel, give
+    // the change of A with size (their noise, alike per pixel, biases both
+    // alike); the fitted ΔA plus that change is the ΔA expected at full
+    // size. Where a channel is off by more than the tolerance, k_s moves by
+    // secant steps at the fitting size (at most 3 renders) until the ΔA
+    // expected at full size is within it (docs/design.md, "The fit"). Call
+    // after run().
+    struct FinalBrightness {
+        std::array<double, 3> size_change{};  // A at full size less A at the fitting size
+        std::array<double, 3> delta{};     // ΔA expected at full size at the fitted k_s
+        std::array<double, 3> ks{};        // the k_s the check chose (the fitted one where ΔA was within)
+        std::array<double, 3> expected{};  // ΔA expected at full size at those
+        int renders = 0;                   // fitting renders the steps took
+    };
+    FinalBrightness final_brightness(const CameraParams& full, int spp) const;
 
 private:
     RenderResult fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
@@ -130,6 +154,10 @@ private:
     const Photo& photo_;
     FitOptions options_;
     std::array<int, 3> lowest_level_;   // per channel, over the volume's voxels
+    // The volume's optical parameters as given: the fit varies k_s, the
+    // contrast and the density scale from them (the volume's levels are
+    // read, its parameters may be changed once the session ran).
+    OpticalParams optics_;
     FitLimits limits_;
     PinholeCamera camera_;
     RenderSettings settings_;
