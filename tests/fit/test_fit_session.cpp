@@ -80,11 +80,11 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
     make.exposure = exposure;
     const Photo dummy = test::ramp_photo(60, 150, 30);
     const FitSession full(t.volume, t.scene, t.camera, settings, dummy, make);
-    const Photo photo = photo_of(full.render_at(truth, contrast, 1024).film, exposure);
+    const Photo photo = photo_of(full.render_at(truth, contrast, 512).film, exposure);
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
     // ΔA of a 96² render at k_s, and its standard error.
     auto delta_at_full_size = [&](const std::array<double, 3>& ks, std::array<double, 3>& sigma) {
-        const DisplayStatistics st = display_statistics(full.render_at(ks, contrast, 512).film, exposure);
+        const DisplayStatistics st = display_statistics(full.render_at(ks, contrast, 256).film, exposure);
         std::array<double, 3> d{};
         for (int c = 0; c < 3; ++c) d[c] = st.a[c] - photo_histogram.mean(c), sigma[c] = st.a_sigma[c];
         return d;
@@ -105,10 +105,10 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
     const std::array<double, 3> after = delta_at_full_size(check.ks, sigma_after);
     for (int c = 0; c < 3; ++c) {
         INFO("channel " << c << ": size change " << check.size_change[c] << ", dA expected " << check.delta[c]
-                        << ", at 512 spp " << before[c] << " +- " << sigma[c] << "; after the correction " << after[c]
+                        << ", at 256 spp " << before[c] << " +- " << sigma[c] << "; after the correction " << after[c]
                         << " +- " << sigma_after[c]);
         // The check's own noise at 64 spp (its standard error here is below
-        // 0.2 levels) and the noise bias left at 64 against 512 spp: 0.6.
+        // 0.2 levels) and the noise bias left at 64 against 256 spp: 0.6.
         CHECK(check.delta[c] == Approx(before[c]).margin(0.6));
         CHECK(std::abs(after[c]) < 1.0);
     }
