@@ -273,7 +273,6 @@ FitOutcome FitSession::run(Progress* progress) {
 
 void FitSession::finish(const FitDriver& driver) {
     const bool fitting = options_.method != FitMethod::None;
-    if (fitting && outcome_.records.size() >= 2) outcome_.brightness_slope = brightness_slopes();
     outcome_.converged = true;
     outcome_.contrast = outcome_.contrast_start;
     outcome_.density_scale = density_scale_;
@@ -286,6 +285,8 @@ void FitSession::finish(const FitDriver& driver) {
                                  std::to_string(options_.max_renders) + " renders";
         if (driver.state(c) != ChannelState::Converged) outcome_.converged = false;
     }
+    // About the k_s just chosen (the brightness check's first step).
+    if (fitting && outcome_.records.size() >= 2) outcome_.brightness_slope = brightness_slopes();
 }
 
 // A photo channel with most object pixels at level 0 or 255 says only
