@@ -560,8 +560,9 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
                    "fitted k_s")
         ->capture_default_str();
     app.add_flag("--measure-material", o.measure_material,
-                 "Also render the final render's shading (the mean medium) and report the material's S and D "
-                 "against the photo with the shading divided out (about one more final render)");
+                 "Also render the fitted volume and its shading (the mean medium) in two halves each and report "
+                 "the material's S, D and structure against the photo, shading and noise taken out (about two "
+                 "more final renders)");
     app.add_option("--ks-max", o.fit.k_max, "Largest k_s the fit tries")->capture_default_str();
     app.add_option("--exposure", o.fit.exposure, "Render-to-photo exposure factor before the sRGB encoding "
                                              "(0 = the middle of the range where every channel can reach the photo, from the "
@@ -645,11 +646,11 @@ int run_pipeline(PipelineFlags& p) {
                 look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure);
     if (r.material)
         std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
-                    "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f; shading render %.1f s\n",
+                    "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f; its two renders %.1f s\n",
                     r.material->block, r.material->s_material[0], r.material->s_material[1],
                     r.material->s_material[2], r.material->s_photo[0], r.material->s_photo[1],
                     r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2],
-                    r.material->structure, r.seconds_shading);
+                    r.material->structure, r.seconds_measure);
     if (r.structure_estimated)
         std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
                     "bands %.1f, warp %.2f; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",

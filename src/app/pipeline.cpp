@@ -53,13 +53,10 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     return volume;
 }
 
-// The final render of `medium`. With `spp` > 0 exactly that many samples
-// per pixel, whatever stopped the final render: its shading render must take
-// the same samples to share its random numbers.
-RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, const MaterialVolumeMedium& medium,
-                          const char* label, int spp = 0) {
-    Scene scene = prep.scene;
-    scene.medium = &medium;
+// The final render's settings. With `spp` > 0 exactly that many samples
+// per pixel, whatever stopped the final render: a render that must share
+// its random numbers takes the same samples.
+RenderSettings final_settings(const PipelineOptions& o, const PreparedScene& prep, int spp = 0) {
     RenderSettings settings = o.render.settings;
     settings.backdrop = prep.backdrop;
     if (spp > 0) {
@@ -67,26 +64,51 @@ RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, c
         settings.time_limit = 0.0;
         settings.target_error = 0.0;
     }
-    std::unique_ptr<Progress> bar;
-    if (o.progress)
-        bar = std::make_unique<Progress>(label, std::size_t(prep.camera.width) * prep.camera.height * settings.spp);
+    return settings;
+}
+
+std::unique_ptr<Progress> render_bar(const PipelineOptions& o, const PreparedScene& prep,
+                                     const RenderSettings& settings, const char* label) {
+    if (!o.progress) return nullptr;
+    return std::make_unique<Progress>(label, std::size_t(prep.camera.width) * prep.camera.height * settings.spp);
+}
+
+// The final render of `medium`.
+RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, const Medium& medium,
+                          const char* label) {
+    Scene scene = prep.scene;
+    scene.medium = &medium;
+    const RenderSettings settings = final_settings(o, prep);
+    const std::unique_ptr<Progress> bar = render_bar(o, prep, settings, label);
     return render(scene, PinholeCamera(prep.camera), settings, bar.get());
 }
 
-// The final render's shading render (the mean medium under the final
-// render's majorant, samples and seed: the same tentative collisions) and
-// the material measured with it.
+// `medium` at the final render's size, seed and `spp`, in two halves.
+SplitFilms final_halves(const PipelineOptions& o, const PreparedScene& prep, const Medium& medium, int spp,
+                        const char* label) {
+    Scene scene = prep.scene;
+    scene.medium = &medium;
+    const RenderSettings settings = final_settings(o, prep, spp);
+    const std::unique_ptr<Progress> bar = render_bar(o, prep, settings, label);
+    return render_halves(scene, PinholeCamera(prep.camera), settings, nullptr, bar.get());
+}
+
+// The material against the photo (fit/appearance.h, compare_material): the
+// fitted volume and its shading render (the mean medium under the same
+// majorant: the same tentative collisions), both at the final render's
+// samples and seed in two halves, so that the noise can be taken out.
 MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScene& prep,
                                     const MaterialVolume& volume, const Photo& photo, PipelineResult& res) {
     const Stopwatch clock;
-    const int spp = res.final_render.passes.empty() ? 0 : res.final_render.passes.back().spp;
-    const Spectrum majorant = MaterialVolumeMedium(volume, volume.cube).majorant();
+    const int spp = std::max(2, res.final_render.passes.empty() ? 2 : res.final_render.passes.back().spp);
+    const MaterialVolumeMedium fitted(volume, volume.cube);
     OpticalParams mean_medium = volume.optics;
     mean_medium.contrast = {0.0, 0.0, 0.0};
-    const MaterialVolumeMedium medium(volume, volume.cube, mean_medium, majorant);
-    const RenderResult shading = final_render(o, prep, medium, "shading render", spp);
-    res.seconds_shading = clock.seconds();
-    return compare_material(photo, res.final_render.film, shading.film, float(res.fit.exposure),
+    const MaterialVolumeMedium shading(volume, volume.cube, mean_medium, fitted.majorant());
+    const SplitFilms render = final_halves(o, prep, fitted, spp, "material render");
+    const SplitFilms flat = final_halves(o, prep, shading, spp, "shading render");
+    res.seconds_measure = clock.seconds();
+    return compare_material(photo, render, flat, float(res.fit.exposure),
                             render_pixels_per_side(prep.camera, volume.cube));
 }
 

@@ -111,6 +111,19 @@ nlohmann::json structure_json(const PipelineResult& res) {
             {"paper_fbm_strength", e.paper.strength}};
 }
 
+// A texture spectrum as its measured bands: the lower edge of each band
+// (cycles per cube side) and its share of the variance, so that two spectra
+// in one report can be plotted against each other.
+nlohmann::json spectrum_json(const TextureSpectrum& s) {
+    std::vector<double> cycles, share;
+    for (int b = 0; b < TextureSpectrum::kBands; ++b)
+        if (s.power[b] >= 0.0) {
+            cycles.push_back(TextureSpectrum::band_low(b));
+            share.push_back(s.power[b]);
+        }
+    return {{"cycles_per_side", cycles}, {"power_share", share}, {"square_pixels", s.square}};
+}
+
 // What a person compares (fit/appearance.h): per channel A, S and D, and the
 // structure of the render's object pixels against the photo's.
 nlohmann::json appearance_json(const Appearance& look) {
@@ -126,7 +139,9 @@ nlohmann::json appearance_json(const Appearance& look) {
             {"render_orientation", look.render.orientation},
             {"render_strength", look.render.strength},
             {"render_coherence", look.render.coherence},
-            {"render_square_pixels", look.render.square}};
+            {"render_square_pixels", look.render.square},
+            {"photo_spectrum", spectrum_json(look.photo)},
+            {"render_spectrum", spectrum_json(look.render)}};
 }
 
 }  // namespace
@@ -208,9 +223,11 @@ std::string pipeline_report(const PipelineReport& in) {
     j["appearance"] = appearance_json(res.final_look);
     if (res.material)  // the material with the shading divided out (fit/appearance.h)
         j["appearance"]["material"] = {{"S_material", res.material->s_material},
+                                       {"S_material_noise", res.material->s_noise},
                                        {"S_photo", res.material->s_photo},
                                        {"D", res.material->d},
                                        {"structure_distance", res.material->structure},
+                                       {"spectrum", spectrum_json(res.material->spectrum)},
                                        {"block_pixels", res.material->block},
                                        {"blocks", res.material->blocks}};
     const GltfPreviewMaterial& pv = res.preview;
@@ -228,7 +245,7 @@ std::string pipeline_report(const PipelineReport& in) {
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
     j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
-                    {"brightness_check", res.seconds_check}, {"final_render", res.seconds_render}, {"shading_render", res.seconds_shading},
+                    {"brightness_check", res.seconds_check}, {"final_render", res.seconds_render}, {"measure_material", res.seconds_measure},
                     {"write", res.seconds_write},
                     {"total", res.seconds_total}};
     j["peak_memory_bytes"] = peak_rss_bytes();

@@ -49,18 +49,26 @@ std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_
     return {h.spread(0), h.spread(1), h.spread(2)};
 }
 
-MaterialAppearance compare_material(const Photo& photo, const Film& render, const Film& shading, float exposure,
-                                    double render_pixels_per_side) {
+MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render, const SplitFilms& shading,
+                                    float exposure, double render_pixels_per_side) {
     MaterialAppearance m;
-    m.block = material_block(render.estimated_relative_error());
-    const Photo flat = flat_render(render, shading, exposure, m.block);
-    const RgbHistogram material = RgbHistogram::of(flat.foreground_levels());
-    const RgbHistogram scan = photo_block_histogram(photo, render_pixels_per_side / m.block);
+    const Film whole = render.merged();
+    m.block = material_block(whole.estimated_relative_error());
+    const double blocks_per_side = render_pixels_per_side / m.block;
+    const RgbHistogram material =
+        RgbHistogram::of(flat_render(whole, shading.merged(), exposure, m.block).foreground_levels());
+    const RgbHistogram scan = photo_block_histogram(photo, blocks_per_side);
     m.blocks = material.total;
-    m.spectrum = texture_spectrum(photo_luma(flat), render_pixels_per_side / m.block);
+    // S and the spectrum from what the two halves share (fit/display.h,
+    // material_spread): the render's noise is taken out of both.
+    const MaterialSpread spread = material_spread(render, shading, exposure, m.block);
+    m.spectrum = texture_cross_spectrum(photo_luma(flat_render(render.first, shading.first, exposure, m.block)),
+                                        photo_luma(flat_render(render.second, shading.second, exposure, m.block)),
+                                        blocks_per_side);
     m.structure = structure_distance(m.spectrum, photo_spectrum(photo));
     for (int c = 0; c < 3; ++c) {
-        m.s_material[c] = material.spread(c);
+        m.s_material[c] = spread.s[c];
+        m.s_noise[c] = spread.noise[c];
         m.s_photo[c] = scan.spread(c);
         m.d[c] = histogram_distance(material, scan, c);
     }

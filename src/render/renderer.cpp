@@ -179,7 +179,7 @@ Film SplitFilms::merged() const {
 }
 
 SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
-                         PathCounters* counters) {
+                         PathCounters* counters, Progress* progress) {
     settings.validate();
     if (settings.spp < 2) throw Error("internal: a render in halves needs at least 2 samples per pixel");
     const Integrator integrator(scene, settings.integrator, settings.seed);
@@ -187,8 +187,8 @@ SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const 
     const int half = settings.spp / 2;
     SplitFilms films{Film(camera.width(), camera.height()), Film(camera.width(), camera.height())};
     PathCounters local;
-    add_samples(scene, integrator, camera, settings, {0, half}, whole, films.first, local, nullptr);
-    add_samples(scene, integrator, camera, settings, {half, settings.spp}, whole, films.second, local, nullptr);
+    add_samples(scene, integrator, camera, settings, {0, half}, whole, films.first, local, progress);
+    add_samples(scene, integrator, camera, settings, {half, settings.spp}, whole, films.second, local, progress);
     if (counters) *counters += local;
     return films;
 }

@@ -1,5 +1,6 @@
 #include "jade/volume/texture_spectrum.h"
 
+#include "jade/core/error.h"
 #include "jade/core/math.h"
 
 #include <opencv2/core.hpp>
@@ -33,75 +34,95 @@ int TextureSpectrum::measured_bands() const {
 
 namespace {
 
-// The periodogram of the square, Hann-windowed with its mean removed, less the
-// white-noise floor; index (ky, kx) as the DFT leaves it. A bin may go
-// negative: a bin's noise is exponentially distributed about the floor, so
-// clamping each bin would leave a third of the noise in; sums over many bins
-// average it out instead.
-cv::Mat periodogram(const GrayImage& image, const std::array<int, 3>& sq, double noise_variance) {
+// The square's values, Hann-windowed with their mean removed, and their DFT.
+struct WindowedDft {
+    cv::Mat spectrum;            // complex, index (ky, kx) as the DFT leaves it
+    double window_energy = 0.0;  // Σ w², what white noise of variance 1 puts in every bin
+};
+WindowedDft windowed_dft(const GrayImage& image, const std::array<int, 3>& sq) {
     const int n = sq[2];
-    cv::Mat values(n, n, CV_32F);
+    auto at = [&](int x, int y) { return double(image.values[std::size_t(sq[1] + y) * image.width + sq[0] + x]); };
     double mean = 0.0;
     for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x)
-            mean += image.values[std::size_t(sq[1] + y) * image.width + sq[0] + x];
+        for (int x = 0; x < n; ++x) mean += at(x, y);
     mean /= double(n) * n;
     std::vector<double> hann(n);
-    double window_energy = 0.0;  // Σ w², what white noise of variance 1 puts in every bin
     for (int i = 0; i < n; ++i) hann[i] = 0.5 - 0.5 * std::cos(2.0 * kPiD * (i + 0.5) / n);
+    WindowedDft out;
+    cv::Mat values(n, n, CV_32F);
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
             const double w = hann[x] * hann[y];
-            window_energy += w * w;
-            values.at<float>(y, x) =
-                float(w * (image.values[std::size_t(sq[1] + y) * image.width + sq[0] + x] - mean));
+            out.window_energy += w * w;
+            values.at<float>(y, x) = float(w * (at(x, y) - mean));
         }
-    cv::Mat spectrum;
-    cv::dft(values, spectrum, cv::DFT_COMPLEX_OUTPUT);
+    cv::dft(values, out.spectrum, cv::DFT_COMPLEX_OUTPUT);
+    return out;
+}
+
+// The cross-periodogram Re(A·conj(B)) of two images over one square, less
+// the white-noise floor; A = B gives the periodogram. Noise that the two
+// images do not share averages out of it. A bin may go negative: a bin's
+// noise is exponentially distributed about the floor, so clamping each bin
+// would leave a third of the noise in; sums over many bins average it out
+// instead.
+cv::Mat cross_periodogram(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
+                          double noise_variance) {
+    const int n = sq[2];
+    const WindowedDft fa = windowed_dft(a, sq);
+    const WindowedDft fb = &a == &b ? fa : windowed_dft(b, sq);
     cv::Mat power(n, n, CV_64F);
-    const double floor = noise_variance * window_energy;
+    const double floor = noise_variance * fa.window_energy;
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
-            const cv::Vec2f c = spectrum.at<cv::Vec2f>(y, x);
-            power.at<double>(y, x) = double(c[0]) * c[0] + double(c[1]) * c[1] - floor;
+            const cv::Vec2f ca = fa.spectrum.at<cv::Vec2f>(y, x), cb = fb.spectrum.at<cv::Vec2f>(y, x);
+            power.at<double>(y, x) = double(ca[0]) * cb[0] + double(ca[1]) * cb[1] - floor;
         }
     return power;
 }
 
 // The gradient structure tensor summed over blocks: Σ_blocks (λ1 − λ2) over
-// Σ_blocks (λ1 + λ2), with central differences.
-double local_coherence(const GrayImage& image, const std::array<int, 3>& sq, double pixels_per_side) {
+// Σ_blocks (λ1 + λ2), with central differences. Of two images, the tensor
+// of their gradients' products (∇a ∇bᵀ, symmetrised): what their noise does
+// not share drops out of it, as of the cross-periodogram.
+double local_coherence(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
+                       double pixels_per_side) {
     const int n = sq[2];
     const int block = std::max(4, int(std::lround(pixels_per_side / 32.0)));
-    auto at = [&](int x, int y) { return double(image.values[std::size_t(sq[1] + y) * image.width + sq[0] + x]); };
+    auto at = [&](const GrayImage& image, int x, int y) {
+        return double(image.values[std::size_t(sq[1] + y) * image.width + sq[0] + x]);
+    };
+    auto gradient = [&](const GrayImage& image, int x, int y) {
+        return std::array<double, 2>{0.5 * (at(image, x + 1, y) - at(image, x - 1, y)),
+                                     0.5 * (at(image, x, y + 1) - at(image, x, y - 1))};
+    };
     double anisotropic = 0.0, energy = 0.0;
     for (int by = 1; by + block <= n - 1; by += block)
         for (int bx = 1; bx + block <= n - 1; bx += block) {
             double jxx = 0.0, jxy = 0.0, jyy = 0.0;
             for (int y = by; y < by + block; ++y)
                 for (int x = bx; x < bx + block; ++x) {
-                    const double gx = 0.5 * (at(x + 1, y) - at(x - 1, y));
-                    const double gy = 0.5 * (at(x, y + 1) - at(x, y - 1));
-                    jxx += gx * gx, jxy += gx * gy, jyy += gy * gy;
+                    const auto ga = gradient(a, x, y), gb = gradient(b, x, y);
+                    jxx += ga[0] * gb[0], jyy += ga[1] * gb[1];
+                    jxy += 0.5 * (ga[0] * gb[1] + ga[1] * gb[0]);
                 }
             anisotropic += std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy);
             energy += jxx + jyy;
         }
-    return energy > 0.0 ? anisotropic / energy : 0.0;
+    return energy > 0.0 ? std::min(1.0, anisotropic / energy) : 0.0;
 }
 
-}  // namespace
-
-TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side, double noise_variance) {
+// A spectrum of no measured band, of a square of side n.
+TextureSpectrum unmeasured(int n) {
     TextureSpectrum out;
     out.power.fill(-1.0);
-    const std::array<int, 3> sq = largest_inside_square(image);
-    const int n = sq[2];
     out.square = n;
-    if (n < 8) return out;
-    const cv::Mat power = periodogram(image, sq, noise_variance);
-    out.coherence = local_coherence(image, sq, pixels_per_side);
+    return out;
+}
 
+// The bands, orientation and strength of a (cross-)periodogram of an n × n square.
+TextureSpectrum bands_of(const cv::Mat& power, int n, double pixels_per_side) {
+    TextureSpectrum out = unmeasured(n);
     // Bands the square measures: at least two cycles across it, at most Nyquist.
     const double f_min = 2.0 * pixels_per_side / n, f_max = 0.5 * pixels_per_side;
     std::array<double, TextureSpectrum::kBands> sum{};
@@ -133,7 +154,31 @@ TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side,
     // The dominant frequency direction is across the structure.
     const double across = 0.5 * std::atan2(2.0 * txy, txx - tyy);
     out.orientation = std::fmod(degrees(across) + 90.0 + 360.0, 180.0);
-    out.strength = std::sqrt((txx - tyy) * (txx - tyy) + 4.0 * txy * txy) / (txx + tyy);
+    out.strength = txx + tyy > 0.0 ? std::min(1.0, std::sqrt((txx - tyy) * (txx - tyy) + 4.0 * txy * txy) / (txx + tyy)) : 0.0;
+    return out;
+}
+
+}  // namespace
+
+TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side, double noise_variance) {
+    const std::array<int, 3> sq = largest_inside_square(image);
+    if (sq[2] < 8) return unmeasured(sq[2]);
+    TextureSpectrum out = bands_of(cross_periodogram(image, image, sq, noise_variance), sq[2], pixels_per_side);
+    out.coherence = local_coherence(image, image, sq, pixels_per_side);
+    return out;
+}
+
+TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, double pixels_per_side) {
+    if (a.width != b.width || a.height != b.height)
+        throw Error("internal: texture_cross_spectrum needs two images of one size");
+    GrayImage both = a;  // the pixels inside both images, for the square
+    both.mask.assign(std::size_t(a.width) * a.height, 1);
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) both.mask[std::size_t(y) * a.width + x] = a.inside(x, y) && b.inside(x, y);
+    const std::array<int, 3> sq = largest_inside_square(both);
+    if (sq[2] < 8) return unmeasured(sq[2]);
+    TextureSpectrum out = bands_of(cross_periodogram(a, b, sq, 0.0), sq[2], pixels_per_side);
+    out.coherence = local_coherence(a, b, sq, pixels_per_side);
     return out;
 }
 
@@ -158,6 +203,13 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
             sq += d * d;
         }
     return std::sqrt(sq / common);
+}
+
+TextureSpectrum common_bands(const TextureSpectrum& s, const TextureSpectrum& other) {
+    TextureSpectrum out = s;
+    for (int b = 0; b < TextureSpectrum::kBands; ++b)
+        if (other.power[b] < 0.0) out.power[b] = -1.0;
+    return out;
 }
 
 double orientation_difference(double a, double b) {

@@ -154,8 +154,10 @@ TEST_CASE("material D: the shading divides out of the histogram distance", "[fit
         photo.levels.push_back({l, l, l});
         photo.foreground.push_back(1);
     }
-    // One render pixel per photo pixel; exact films: blocks of one pixel.
-    const MaterialAppearance m = compare_material(photo, scene.render, scene.shading, 1.f, double(w));
+    // One render pixel per photo pixel; exact films (both halves the same,
+    // no noise): blocks of one pixel.
+    const SplitFilms render{scene.render, scene.render}, shading{scene.shading, scene.shading};
+    const MaterialAppearance m = compare_material(photo, render, shading, 1.f, double(w));
     CHECK(m.block == 1);
     CHECK(m.blocks == std::size_t(w * h));
     const RgbHistogram photo_hist = RgbHistogram::of(photo.levels);
@@ -177,7 +179,7 @@ TEST_CASE("material D: the shading divides out of the histogram distance", "[fit
         const auto l = std::uint8_t(std::clamp(std::lround(mean + 2 * (flat[i] - mean)), 0L, 255L));
         wider.levels[i] = {l, l, l};
     }
-    const MaterialAppearance far = compare_material(wider, scene.render, scene.shading, 1.f, double(w));
+    const MaterialAppearance far = compare_material(wider, render, shading, 1.f, double(w));
     for (int c = 0; c < 3; ++c) CHECK(far.d[c] > 0.5);
 }
 

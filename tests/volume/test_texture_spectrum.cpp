@@ -16,12 +16,12 @@ namespace {
 // A sinusoid of `cycles` per image width whose wave vector points `degrees`
 // counterclockwise from the displayed horizontal (y up on screen), plus white
 // noise of standard deviation `sigma`.
-GrayImage sinusoid(int n, double cycles, double degrees_, double sigma = 0.0) {
+GrayImage sinusoid(int n, double cycles, double degrees_, double sigma = 0.0, std::uint64_t seed = 42) {
     GrayImage g;
     g.width = g.height = n;
     g.values.resize(std::size_t(n) * n);
     const double kx = std::cos(radians(degrees_)), ky = std::sin(radians(degrees_));
-    SplitMix64 rng(42);
+    SplitMix64 rng(seed);
     for (int row = 0; row < n; ++row)
         for (int x = 0; x < n; ++x) {
             const double y_up = n - 1 - row;
@@ -67,6 +67,30 @@ TEST_CASE("texture spectrum: a known white-noise variance is taken out", "[spect
     REQUIRE(clean.power[band_of(20.0)] > 0.6);
 }
 
+TEST_CASE("cross spectrum: noise the two images do not share averages out", "[spectrum]") {
+    // Two copies of one sinusoid (variance 50²/2 = 1250) with independent
+    // noise of σ = 100 (8x its variance), as two halves of a render's
+    // samples are. Parseval: the sinusoid puts N·1250·W into its band (N =
+    // 256² bins, W the window energy); a bin of the cross-periodogram holds
+    // the noises' product, of mean 0 and standard deviation σ²W/√2, so a
+    // band of B bins is off by σ²W·√(B/2), at most 90·σ²W (B ≤ N/4) and
+    // summed over the 14 bands' positive parts at most ~500·σ²W, 6 % of the
+    // sinusoid's power. The periodogram of one copy carries N·σ²W of noise,
+    // 8x the sinusoid's.
+    const GrayImage a = sinusoid(256, 20.0, 30.0, 100.0, 1), b = sinusoid(256, 20.0, 30.0, 100.0, 2);
+    const TextureSpectrum one = texture_spectrum(a, 256.0);
+    const TextureSpectrum shared = texture_cross_spectrum(a, b, 256.0);
+    CHECK(one.power[band_of(20.0)] < 0.3);
+    CHECK(shared.power[band_of(20.0)] > 0.9);
+    CHECK(orientation_difference(shared.orientation, 120.0) < 2.0);
+    CHECK(structure_distance(shared, texture_spectrum(sinusoid(256, 20.0, 30.0), 256.0)) <
+          structure_distance(one, texture_spectrum(sinusoid(256, 20.0, 30.0), 256.0)));
+    // Of one image with itself it is the periodogram.
+    const TextureSpectrum self = texture_cross_spectrum(a, a, 256.0);
+    for (int band = 0; band < TextureSpectrum::kBands; ++band) CHECK(self.power[band] == Approx(one.power[band]));
+    CHECK(self.coherence == Approx(one.coherence));
+}
+
 TEST_CASE("structure distance: zero for one structure, large for another scale", "[spectrum]") {
     const TextureSpectrum a = texture_spectrum(sinusoid(256, 20.0, 0.0, 5.0), 256.0);
     const TextureSpectrum b = texture_spectrum(sinusoid(256, 20.0, 60.0, 5.0), 256.0);
@@ -75,6 +99,13 @@ TEST_CASE("structure distance: zero for one structure, large for another scale",
     REQUIRE(structure_distance(a, b) < 0.1);   // same scale, other direction: the radial spectrum agrees
     REQUIRE(structure_distance(a, c) > 1.0);   // two octaves apart
     REQUIRE(orientation_difference(170.0, 10.0) == Approx(20.0));
+    // Held to the bands of a coarser image (a quarter of the pixels per
+    // side: its top four bands are gone), c's band at 80 cycles is not
+    // compared.
+    const TextureSpectrum coarse = texture_spectrum(sinusoid(64, 5.0, 0.0), 64.0);
+    const TextureSpectrum c_low = common_bands(c, coarse);
+    CHECK(c_low.measured_bands() == coarse.measured_bands());
+    CHECK(c_low.power[band_of(80.0)] < 0.0);
 }
 
 TEST_CASE("largest inside square: a disc holds a square of side r·√2", "[spectrum]") {

@@ -30,10 +30,11 @@ struct PipelineOptions {
     FitOptions fit;
     RenderJob render;                 // mesh, boundary, lights, camera and the final render's settings
     bool progress = false;            // progress bars on stderr
-    // Also render the final render's shading (the volume's mean medium,
-    // contrast 0, same random numbers and majorant) and compare the material
-    // with the photo, shading divided out (fit/appearance.h,
-    // compare_material). Costs about one more final render.
+    // Also render the fitted volume and its shading (the volume's mean
+    // medium, contrast 0, same random numbers and majorant) in two halves
+    // each, and compare the material with the photo, shading divided out and
+    // noise taken out (fit/appearance.h, compare_material). Costs about two
+    // more final renders.
     bool measure_material = false;
     // After a fit, check A at the final render's size (renders at both sizes
     // with a quarter of its samples, at least 64): where a channel is off by
@@ -71,7 +72,7 @@ struct PipelineResult {
     std::vector<std::string> warnings;
     std::vector<std::string> written;
     double seconds_photo = 0, seconds_structure = 0, seconds_volume = 0, seconds_fit = 0, seconds_check = 0,
-           seconds_render = 0, seconds_shading = 0, seconds_write = 0, seconds_total = 0;
+           seconds_render = 0, seconds_measure = 0, seconds_write = 0, seconds_total = 0;
 };
 
 PipelineResult run_pipeline(const PipelineOptions& options);

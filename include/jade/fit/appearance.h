@@ -43,19 +43,23 @@ RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_
 // (fit/display.h, flat_render): a flat scan of a stone has no
 // shading, a lit object does, and A, S and D of the whole render measure
 // both. Here the render and its shading render (the volume's mean medium,
-// same random numbers) are flattened and averaged over blocks in which the
-// render's noise falls to 0.1 (material_block), and the photo is averaged
-// over blocks of the same footprint on the cube. The structure distance is
-// the flattened blocks' luma spectrum against the photo's.
+// same random numbers), each in two independent halves (render_halves), are
+// flattened and averaged over blocks in which the render's noise falls to
+// 0.1 (material_block), and the photo is averaged over blocks of the same
+// footprint on the cube. S_material and the structure are measured on what
+// the halves share (material_spread, texture_cross_spectrum), so the
+// render's noise is not counted as the stone's spread or as fine structure;
+// the histogram distance D is of the merged halves' blocks, noise and all.
 struct MaterialAppearance {
     std::array<double, 3> s_material{}, s_photo{}, d{};
-    TextureSpectrum spectrum;   // of the flattened blocks' luma
+    std::array<double, 3> s_noise{};  // the noise's share taken out of S_material, levels
+    TextureSpectrum spectrum;   // of the flattened blocks' luma, noise taken out
     double structure = -1.0;    // structure_distance(spectrum, the photo's)
     int block = 1;              // render pixels per block side
     std::size_t blocks = 0;     // render blocks in the histogram
 };
-MaterialAppearance compare_material(const Photo& photo, const Film& render, const Film& shading, float exposure,
-                                    double render_pixels_per_side);
+MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render, const SplitFilms& shading,
+                                    float exposure, double render_pixels_per_side);
 
 Appearance compare_appearance(const RgbHistogram& photo_histogram, const TextureSpectrum& photo_spectrum,
                               const DisplayStatistics& render, double render_pixels_per_side);

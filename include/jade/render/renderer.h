@@ -102,7 +102,7 @@ struct SplitFilms {
     Film merged() const;
 };
 SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
-                         PathCounters* counters = nullptr);
+                         PathCounters* counters = nullptr, Progress* progress = nullptr);
 
 // pass,spp,seconds,estimated_rel_error,rmse,rel_mse — written whole or not at all.
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes);

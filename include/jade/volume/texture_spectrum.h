@@ -56,11 +56,25 @@ struct TextureSpectrum {
 TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side,
                                  double noise_variance = 0.0);
 
+// The structure two noisy images of one texture share: the same bands from
+// the cross-periodogram Re(A·conj(B)) over the largest square inside both.
+// Where their noise is independent (two halves of a render's samples) it
+// averages out of the bands whatever its distribution, which a subtracted
+// floor cannot promise for the heavy-tailed noise of a Monte Carlo render.
+// The coherence comes from the product of their gradients: the noise
+// averages out of each block's tensor, though not wholly out of its
+// eigenvalues' difference.
+TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, double pixels_per_side);
+
 // The root mean square difference of two spectra's log10 power shares over
 // the bands both measure, each renormalised to those bands: 0 for the same
 // structure at the same scale, 0.3 for a factor of two per band. Negative
 // when they share fewer than two bands.
 double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b);
+
+// `s` measured only in the bands `other` measures too: two spectra held
+// against a third over the same bands, whatever each image could resolve.
+TextureSpectrum common_bands(const TextureSpectrum& s, const TextureSpectrum& other);
 
 // The smaller angle between two orientations (degrees, modulo 180).
 double orientation_difference(double a, double b);
