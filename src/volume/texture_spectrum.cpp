@@ -84,7 +84,8 @@ cv::Mat cross_periodogram(const GrayImage& a, const GrayImage& b, const std::arr
 // The gradient structure tensor summed over blocks: Σ_blocks (λ1 − λ2) over
 // Σ_blocks (λ1 + λ2), with central differences. Of two images, the tensor
 // of their gradients' products (∇a ∇bᵀ, symmetrised): what their noise does
-// not share drops out of it, as of the cross-periodogram.
+// not share averages out of each block's tensor, though not wholly out of
+// its eigenvalues' difference (a square root per block).
 double local_coherence(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
                        double pixels_per_side) {
     const int n = sq[2];
@@ -154,7 +155,9 @@ TextureSpectrum bands_of(const cv::Mat& power, int n, double pixels_per_side) {
     // The dominant frequency direction is across the structure.
     const double across = 0.5 * std::atan2(2.0 * txy, txx - tyy);
     out.orientation = std::fmod(degrees(across) + 90.0 + 360.0, 180.0);
-    out.strength = txx + tyy > 0.0 ? std::min(1.0, std::sqrt((txx - tyy) * (txx - tyy) + 4.0 * txy * txy) / (txx + tyy)) : 0.0;
+    // A cross-periodogram's tensor may come out of its range on noise alone.
+    const double anisotropic = std::sqrt((txx - tyy) * (txx - tyy) + 4.0 * txy * txy);
+    out.strength = txx + tyy > 0.0 ? std::min(1.0, anisotropic / (txx + tyy)) : 0.0;
     return out;
 }
 
