@@ -69,6 +69,13 @@ MeshAccel::~MeshAccel() = default;
 
 std::optional<SurfaceHit> MeshAccel::intersect(const glm::vec3& o, const glm::vec3& d, float tmin,
                                                float tmax) const {
+    const std::optional<RayHit> hit = intersect_ray(o, d, tmin, tmax);
+    if (!hit) return std::nullopt;
+    return surface(*hit);
+}
+
+std::optional<RayHit> MeshAccel::intersect_ray(const glm::vec3& o, const glm::vec3& d, float tmin,
+                                               float tmax) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
@@ -88,8 +95,42 @@ std::optional<SurfaceHit> MeshAccel::intersect(const glm::vec3& o, const glm::ve
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    return RayHit{rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
+}
 
-    return make_hit(rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v);
+void MeshAccel::intersect_packet(const glm::vec3& origin, const glm::vec3* directions, int n,
+                                 std::optional<SurfaceHit>* hits) const {
+    if (n < 0 || n > kPacket) throw Error("internal: a ray packet holds at most 8 rays");
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[kPacket];
+    alignas(32) RTCRayHit8 rh;
+    for (int i = 0; i < kPacket; ++i) {
+        valid[i] = i < n ? -1 : 0;
+        const glm::vec3 d = i < n ? directions[i] : glm::vec3(0.f, 0.f, 1.f);
+        rh.ray.org_x[i] = origin.x;
+        rh.ray.org_y[i] = origin.y;
+        rh.ray.org_z[i] = origin.z;
+        rh.ray.dir_x[i] = d.x;
+        rh.ray.dir_y[i] = d.y;
+        rh.ray.dir_z[i] = d.z;
+        rh.ray.tnear[i] = 0.f;
+        rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+        rh.ray.time[i] = 0.f;
+        rh.ray.mask[i] = 0xFFFFFFFFu;
+        rh.ray.id[i] = unsigned(i);
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, embree_->scene, &context, &rh);
+    for (int i = 0; i < n; ++i) {
+        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID)
+            hits[i] = std::nullopt;
+        else
+            hits[i] = surface(RayHit{rh.ray.tfar[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]});
+    }
 }
 
 namespace {
@@ -152,14 +193,15 @@ float MeshAccel::distance_to_surface(const glm::vec3& p, float max_distance) con
     return std::min(query.radius, max_distance);
 }
 
-SurfaceHit MeshAccel::make_hit(float t, std::uint32_t triangle, float u, float v) const {
+SurfaceHit MeshAccel::surface(const RayHit& ray_hit) const {
+    const float u = ray_hit.u, v = ray_hit.v;
     SurfaceHit hit;
-    hit.t = t;
-    hit.triangle = triangle;
+    hit.t = ray_hit.t;
+    hit.triangle = ray_hit.triangle;
     hit.u = u;
     hit.v = v;
     // Our own face normal, (p1 - p0) x (p2 - p0), whose orientation we define.
-    const TriangleShading& ts = shading_[triangle];
+    const TriangleShading& ts = shading_[ray_hit.triangle];
     hit.geometric_normal = ts.face;
     hit.shading_normal = hit.geometric_normal;
     if (!flat_) {
@@ -184,7 +226,7 @@ std::optional<SurfaceHit> MeshAccel::intersect_triangle(const glm::vec3& o, cons
     const float v = glm::dot(d, qv) / det;
     const float t = glm::dot(e2, qv) / det;
     if (!(u >= 0.f && v >= 0.f && u + v <= 1.f && t > 0.f)) return std::nullopt;
-    return make_hit(t, triangle, u, v);
+    return surface(RayHit{t, triangle, u, v});
 }
 
 // The shading normal is the normalised ñ = Σ b_i n_i over the barycentrics

@@ -153,12 +153,21 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, s
 
 PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
                              PathCounters& counters) const {
+    return trace(origin, direction, scene_.boundary->intersect(origin, direction, 0.f, kInfinity),
+                 rng, counters);
+}
+
+PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction,
+                             const std::optional<SurfaceHit>& first_hit, SampleStream& rng,
+                             PathCounters& counters) const {
     ++counters.paths;
     PathState s(origin, direction, rng, counters);
     s.hero = std::min(2, int(3.f * rng.uniform()));
-    for (;;) {
+    for (bool first = true;; first = false) {
         std::optional<SurfaceHit> hit;
-        if (s.inside && scene_.medium) {
+        if (first) {  // from outside, the query below, answered by the caller
+            hit = first_hit;
+        } else if (s.inside && scene_.medium) {
             const Walk walk = walk_sphere(s);
             if (walk == Walk::Ended) return s.out;
             if (walk == Walk::Left) {
@@ -275,14 +284,17 @@ Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
         return flight == Flight::Reached;
     });
     if (flight != Flight::Reached) return flight;
-    hit = scene_.boundary->intersect(s.o, s.d, std::max(0.f, query_from - glm::length(s.o - start)),
-                                     kInfinity);
+    const std::optional<RayHit> surface = scene_.boundary->intersect_ray(
+        s.o, s.d, std::max(0.f, query_from - glm::length(s.o - start)), kInfinity);
     // A ray from inside that meets no surface has slipped out through a crack
     // between triangles: the medium lies inside the mesh, so there is nothing
     // to track (an unbounded flight through a grid that is zero beyond its
     // edge would draw null collisions for ever) and the path escapes.
-    if (!hit) return Flight::Reached;
-    return track(s, hit->t, at);
+    if (!surface) return Flight::Reached;
+    flight = track(s, surface->t, at);
+    // Only a flight that gets there needs the surface's normals.
+    if (flight == Flight::Reached) hit = scene_.boundary->surface(*surface);
+    return flight;
 }
 
 // Delta tracking to the next real collision before t_max, against the

@@ -8,6 +8,9 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <glm/vec2.hpp>
+
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -26,11 +29,6 @@ void RenderSettings::validate() const {
 
 namespace {
 
-// Samples [samples.first, samples.last) of every pixel in `bounds`, added to
-// `film` in index order per pixel, tiles in parallel. A sample's random
-// numbers are keyed by (seed, pixel, sample index) and the film's sums are
-// exact, so the result does not depend on threads, tiles or how a render is
-// split into passes or pieces.
 // A time by which a pass must stop, even half done (a render's --time).
 struct Deadline {
     const Stopwatch* clock = nullptr;
@@ -38,10 +36,47 @@ struct Deadline {
     bool passed() const { return clock && clock->seconds() >= seconds; }
 };
 
+// Samples [samples.first, samples.last) of pixel (x, y), in index order.
+// Their camera rays leave one point in nearly one direction: each packet of
+// MeshAccel::kPacket is traced at once, and every path goes on alone from
+// its first hit. A sample's random numbers start with its film position.
+void add_pixel_samples(const Scene& scene, const Integrator& integrator,
+                       const PinholeCamera& camera, const RenderSettings& settings,
+                       SampleRange samples, int x, int y, Film& film, PathCounters& counters) {
+    constexpr int kPacket = MeshAccel::kPacket;
+    const std::uint64_t pixel = std::uint64_t(y) * camera.width() + x;
+    for (int first = samples.first; first < samples.last; first += kPacket) {
+        const int n = std::min(kPacket, samples.last - first);
+        std::array<SampleStream, kPacket> rng;
+        std::array<glm::vec2, kPacket> film_at;
+        std::array<glm::vec3, kPacket> direction;
+        for (int i = 0; i < n; ++i) {
+            rng[std::size_t(i)] = SampleStream(settings.seed, pixel, std::uint64_t(first + i));
+            const float fx = (float(x) + rng[std::size_t(i)].uniform()) / float(camera.width());
+            const float fy = (float(y) + rng[std::size_t(i)].uniform()) / float(camera.height());
+            film_at[std::size_t(i)] = glm::vec2(fx, fy);
+            direction[std::size_t(i)] = camera.direction(fx, fy);
+        }
+        std::array<std::optional<SurfaceHit>, kPacket> hit;
+        scene.boundary->intersect_packet(camera.origin(), direction.data(), n, hit.data());
+        for (int i = 0; i < n; ++i) {
+            const auto k = std::size_t(i);
+            const PathSample ps =
+                integrator.trace(camera.origin(), direction[k], hit[k], rng[k], counters);
+            const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
+            film.add_sample(x, y, ps.radiance + behind, ps.hit_object);
+        }
+    }
+}
+
+// Samples [samples.first, samples.last) of every pixel in `bounds`, added to
+// `film` in index order per pixel, tiles in parallel. A sample's random
+// numbers are keyed by (seed, pixel, sample index) and the film's sums are
+// exact, so the result does not depend on threads, tiles or how a render is
+// split into passes or pieces.
 void add_samples(const Scene& scene, const Integrator& integrator, const PinholeCamera& camera,
                  const RenderSettings& settings, SampleRange samples, PixelBounds bounds,
                  Film& film, PathCounters& counters, Progress* progress, Deadline deadline = {}) {
-    const int width = camera.width(), height = camera.height();
     const int tiles_x = (bounds.x1 - bounds.x0 + kTile - 1) / kTile;
     const int tiles_y = (bounds.y1 - bounds.y0 + kTile - 1) / kTile;
     tbb::enumerable_thread_specific<PathCounters> local_counters;
@@ -54,16 +89,7 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
                 // Past the deadline the rest of the pass is left out: each
                 // pixel's mean stays an unbiased estimate of its own samples.
                 if (deadline.passed()) return;
-                const std::uint64_t pixel = std::uint64_t(y) * width + x;
-                for (int s = samples.first; s < samples.last; ++s) {
-                    SampleStream rng(settings.seed, pixel, std::uint64_t(s));
-                    const float fx = (float(x) + rng.uniform()) / float(width);
-                    const float fy = (float(y) + rng.uniform()) / float(height);
-                    const PathSample ps =
-                        integrator.trace(camera.origin(), camera.direction(fx, fy), rng, local);
-                    film.add_sample(x, y, ps.radiance + backdrop(scene, settings.backdrop, ps, fx, fy),
-                                    ps.hit_object);
-                }
+                add_pixel_samples(scene, integrator, camera, settings, samples, x, y, film, local);
             }
         if (progress) progress->advance(std::size_t(x1 - x0) * (y1 - y0) * (samples.last - samples.first));
     });

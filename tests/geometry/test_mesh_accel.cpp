@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <optional>
 
 using namespace jade;
 
@@ -53,6 +54,41 @@ TEST_CASE("rays hit the box at the analytic distance with outward normals", "[me
 
     CHECK_FALSE(accel.intersect({5, 5, 5}, {0, 0, 1}, 0.f, 1e30f));
     CHECK_FALSE(accel.intersect({0, 0, 5}, {0, 0, -1}, 0.f, 3.f));  // beyond tmax
+}
+
+TEST_CASE("a packet of rays hits the box at the analytic distances and misses where it must",
+          "[mesh_accel]") {
+    const TriangleMesh box = unit_box();
+    const MeshAccel accel(box, true);
+    const glm::vec3 origin(0.3f, -0.2f, 4.f);
+    SplitMix64 rng(3);
+    for (int n = 0; n <= MeshAccel::kPacket; ++n) {
+        glm::vec3 d[MeshAccel::kPacket];
+        for (int i = 0; i < n; ++i) {  // toward points of the plane z = 0 in [-2, 2]²: some miss
+            const glm::vec3 target(float(4 * rng.uniform() - 2), float(4 * rng.uniform() - 2), 0.f);
+            d[i] = glm::normalize(target - origin);
+        }
+        std::optional<SurfaceHit> hits[MeshAccel::kPacket];
+        accel.intersect_packet(origin, d, n, hits);
+        for (int i = 0; i < n; ++i) {
+            // The front face z = 1, entered where |x|, |y| ≤ 1 there.
+            const float t = (1.f - origin.z) / d[i].z;
+            const glm::vec3 p = origin + t * d[i];
+            INFO("ray " << i << " of " << n << " meets z = 1 at " << p.x << ", " << p.y);
+            if (std::abs(p.x) < 0.999f && std::abs(p.y) < 0.999f) {
+                REQUIRE(hits[i]);
+                CHECK(hits[i]->t == Approx(t).epsilon(1e-5));
+                CHECK(hits[i]->geometric_normal == glm::vec3(0, 0, 1));
+            } else if (std::abs(p.x) > 1.001f || std::abs(p.y) > 1.001f) {
+                // It passes beside the front face: it may still cross a side
+                // face, which the single-ray query answers the same.
+                const auto one = accel.intersect(origin, d[i], 0.f, 1e30f);
+                REQUIRE(bool(hits[i]) == bool(one));
+                if (one) CHECK(hits[i]->t == one->t);
+            }
+        }
+    }
+    CHECK_THROWS(accel.intersect_packet(origin, nullptr, MeshAccel::kPacket + 1, nullptr));
 }
 
 TEST_CASE("no ray escapes the closed box, not even along the triangles' shared edges",

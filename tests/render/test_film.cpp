@@ -5,7 +5,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 using namespace jade;
 
@@ -20,6 +22,34 @@ TEST_CASE("the film keeps each pixel's mean, variance of the mean and coverage",
     CHECK(f.variance_of_mean(0, 0).z == 0.f);
     CHECK(f.coverage(0, 0) == Approx(0.75));
     CHECK(f.coverage(1, 0) == 0.f);
+}
+
+// Truth from x87 extended precision: a float times 2^64 is exact in a long
+// double's 64-bit significand, and libgcc's long double conversion to
+// __int128 is a path of its own.
+TEST_CASE("the film's sums hold each sample times 2^64 rounded to the nearest integer exactly",
+          "[film]") {
+    auto exact = [](float v) {
+        const long double x = std::ldexp(static_cast<long double>(v), 64);
+        const long double limit = std::ldexp(1.0L, 126);  // the film clamps at 2^62
+        return __int128(std::nearbyintl(std::clamp(x, -limit, limit)));
+    };
+    std::vector<float> values = {0.f, 1.f, -1.f, std::ldexp(1.f, -64), std::ldexp(1.f, -65),
+                                 std::ldexp(3.f, -65), std::ldexp(5.f, -66), -std::ldexp(3.f, -65),
+                                 std::ldexp(1.f, 62), 1e30f, -1e30f, 0.1f, 12345.678f};
+    SplitMix64 rng(7);
+    for (int i = 0; i < 2000; ++i) {
+        const float mantissa = float(1.0 + rng.uniform());
+        const int exponent = int(rng.below(161)) - 90;  // 2^-90 to 2^70
+        values.push_back((rng.uniform() < 0.5 ? -1.f : 1.f) * std::ldexp(mantissa, exponent));
+    }
+    for (float v : values) {
+        Film f(1, 1);
+        f.add_sample(0, 0, Spectrum(v, 0.f, 0.f), false);
+        INFO("v = " << v);
+        CHECK(f.sums()[0] == exact(v));
+        CHECK(f.sums()[1] == 0);
+    }
 }
 
 TEST_CASE("the estimated relative error predicts the actual error", "[film]") {

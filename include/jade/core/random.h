@@ -43,6 +43,8 @@ namespace jade {
 // or in which order (renders are bit-identical whatever the thread count).
 class SampleStream {
 public:
+    // A placeholder to assign a keyed stream to (arrays of streams).
+    SampleStream() = default;
     SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
         : key_(splitmix64(splitmix64(seed ^ 0xA0761D6478BD642Full) + pixel) ^
                splitmix64(sample * 0xE7037ED1A0B428DBull + 0x8EBC6AF09C88C6E3ull)) {}
@@ -53,7 +55,7 @@ public:
     }
 
 private:
-    std::uint64_t key_;
+    std::uint64_t key_ = 0;
     std::uint64_t counter_ = 0;
 };
 

@@ -22,6 +22,15 @@ struct SurfaceHit {
     glm::vec3 shading_normal{};    // unit, interpolated vertex normals (or = geometric)
 };
 
+// Where a ray meets the surface, before its triangle's normals are looked
+// up (MeshAccel::surface): a free flight that scatters short of the surface
+// needs only t, and the normals cost a cache miss a hit.
+struct RayHit {
+    float t = 0.f;
+    std::uint32_t triangle = 0;
+    float u = 0.f, v = 0.f;
+};
+
 // How the surface varies around a hit, for walks along it (manifold next-
 // event estimation): two orthonormal tangents of the hit triangle's plane
 // and the derivatives of the unit shading normal along them (zero where the
@@ -44,6 +53,18 @@ public:
     // Closest hit with t in (tmin, tmax); direction must be unit length.
     std::optional<SurfaceHit> intersect(const glm::vec3& origin, const glm::vec3& direction,
                                         float tmin, float tmax) const;
+    // The same query without the normals; surface() completes its hit.
+    std::optional<RayHit> intersect_ray(const glm::vec3& origin, const glm::vec3& direction,
+                                        float tmin, float tmax) const;
+    SurfaceHit surface(const RayHit& hit) const;
+    // The closest hits, t in (0, ∞), of n ≤ kPacket rays from one origin,
+    // traced as one Embree packet (rtcIntersect8, flagged coherent): the
+    // camera rays of one pixel run nearly parallel, and a packet of them
+    // costs far less than its rays one by one. hits[i] is what
+    // intersect(origin, directions[i], 0, ∞) reports.
+    static constexpr int kPacket = 8;
+    void intersect_packet(const glm::vec3& origin, const glm::vec3* directions, int n,
+                          std::optional<SurfaceHit>* hits) const;
     // The hit of a ray with one given triangle alone (Möller–Trumbore, t > 0),
     // as intersect() would report it: for walks along the surface that stay
     // on a triangle, without a BVH traversal. Nothing else is tested.
@@ -68,7 +89,6 @@ public:
 
 private:
     struct Embree;
-    SurfaceHit make_hit(float t, std::uint32_t triangle, float u, float v) const;
     const TriangleMesh& mesh_;
     bool flat_;
     // What a hit needs of its triangle, in one 48-byte record: the unit face

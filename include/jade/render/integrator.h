@@ -117,6 +117,12 @@ public:
     // direction `direction` (unit) from `origin`, which lies outside the object.
     PathSample trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
                      PathCounters& counters) const;
+    // The same path when its first boundary query, from `origin` along
+    // `direction` over (0, ∞), is answered already: camera rays are traced
+    // in packets (MeshAccel::intersect_packet).
+    PathSample trace(const glm::vec3& origin, const glm::vec3& direction,
+                     const std::optional<SurfaceHit>& first_hit, SampleStream& rng,
+                     PathCounters& counters) const;
 
 private:
     struct PathState;

@@ -39,8 +39,10 @@ struct PathCounters {
 constexpr int kMaxCrossings = 4096;
 
 // Free-flight distance to the next tentative collision against majorant mu.
+// A uniform number is a multiple of 2^-24 below 1, so 1 − u is exact and
+// −log(1 − u) loses nothing to log1p(−u), which costs about twice as much.
 inline float sample_free_flight(float mu, SampleStream& rng) {
-    return -std::log1p(-rng.uniform()) / mu;
+    return -std::log(1.f - rng.uniform()) / mu;
 }
 
 // exp(−μ·Δt) per channel; a channel with a zero majorant is not attenuated,
