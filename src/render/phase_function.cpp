@@ -34,6 +34,7 @@ PhaseFunction::PhaseFunction(float g) : g_(g) {
 }
 
 float PhaseFunction::eval(const glm::vec3& in, const glm::vec3& out) const {
+    if (g_ == 0.f) return kInv4Pi;  // isotropic, the default: asked at every scattering
     const float denom = hg_denominator(g_, in, out);
     return kInv4Pi * (1.f - g_) * (1.f + g_) / (denom * std::sqrt(denom));
 }
