@@ -21,6 +21,9 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // in one step keeps from the surface: its collisions get no light estimate,
 // and light from outside reaches that deep attenuated by e^-4 or more.
 constexpr float kSphereMargin = 4.f;
+// Mean free paths of the hero's majorant within which a flight asks for
+// the surface first (Integrator::fly); 2 and 8 were slower on scenes A, B.
+constexpr float kQueryReach = 4.f;
 
 // The sphere exit tables a scene needs: none unless the medium is
 // homogeneous and spheres of level 1 fit in the object with their margin;
@@ -284,8 +287,21 @@ Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
         return flight == Flight::Reached;
     });
     if (flight != Flight::Reached) return flight;
-    const std::optional<RayHit> surface = scene_.boundary->intersect_ray(
-        s.o, s.d, std::max(0.f, query_from - glm::length(s.o - start)), kInfinity);
+    // The surface is asked for first within kQueryReach mean free paths of
+    // the hero's majorant: Embree then prunes every part of the mesh
+    // farther away (scenes A and B took about 15 % less time). With no
+    // surface that near, that stretch is tracked, and only a flight that
+    // gets through it (e^-4 of them in a homogeneous medium) asks beyond.
+    // Free flights are memoryless, so the split is unbiased.
+    const float from = std::max(0.f, query_from - glm::length(s.o - start));
+    const float reach = std::max(from, kQueryReach / scene_.medium->majorant()[s.hero]);
+    std::optional<RayHit> surface = scene_.boundary->intersect_ray(s.o, s.d, from, reach);
+    if (!surface && std::isfinite(reach)) {
+        flight = track(s, reach, at);
+        if (flight != Flight::Reached) return flight;
+        s.o += reach * s.d;
+        surface = scene_.boundary->intersect_ray(s.o, s.d, 0.f, kInfinity);
+    }
     // A ray from inside that meets no surface has slipped out through a crack
     // between triangles: the medium lies inside the mesh, so there is nothing
     // to track (an unbounded flight through a grid that is zero beyond its
