@@ -259,12 +259,19 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
     options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
     options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
     options.spp = 256;
+    // Three steps of density scale, each judged by two more renders, besides
+    // the brightness and contrast steps: with two versions of the renderer's
+    // noise the fit took 24 and 26 renders, at or just past the default
+    // budget of 24, so one noisy step decided the outcome. The test is of
+    // where the fit goes, not of its budget.
+    options.max_renders = 32;
     FitSession session(t.volume, t.scene, t.camera, settings, photo, options);
     const FitOutcome out = session.run();
     INFO("density scale " << out.density_scale << "; contrast " << out.contrast[0] << ", " << out.contrast[1] << ", "
                           << out.contrast[2] << " in " << out.records.size() << " renders; S " << out.s_material[0]
                           << ", " << out.s_material[1] << ", " << out.s_material[2] << " against " << out.s_photo[0]
-                          << ", " << out.s_photo[1] << ", " << out.s_photo[2]);
+                          << ", " << out.s_photo[1] << ", " << out.s_photo[2] << "; " << out.reason[0] << " "
+                          << out.reason[1] << " " << out.reason[2]);
     REQUIRE(out.converged);
     CHECK(out.density_scale_start == start);
     CHECK(out.density_scale > 1.5 * start);

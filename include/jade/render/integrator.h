@@ -31,8 +31,9 @@
 // collisions get no light estimate (the light reaching that deep is
 // found by the path when it leaves, with full weight).
 //
-// Paths end by absorption, Russian roulette (after `rr_depth` interactions,
-// survival = throughput when below 1) or when they would make interaction
+// Absorption weighs a path at each real collision (the walks through
+// spheres excepted, which draw it). Paths end by Russian roulette (after
+// `rr_depth` interactions, survival = throughput when below 1) or when they would make interaction
 // max_depth + 1: the light reaching the first max_depth interactions is
 // counted (a walk through a sphere counts as one interaction). A cap biases
 // the image, so capped paths are counted for reports.
