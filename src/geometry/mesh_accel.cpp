@@ -30,7 +30,7 @@ struct MeshAccel::Embree {
 };
 
 MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat, bool detect_convex)
-    : mesh_(mesh), flat_(flat), embree_(std::make_unique<Embree>()),
+    : mesh_(mesh), bounds_(mesh.bounds()), flat_(flat), embree_(std::make_unique<Embree>()),
       clearance_(mesh, kClearanceCells), convex_(detect_convex && is_convex(mesh)) {
     shading_.reserve(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

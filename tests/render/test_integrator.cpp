@@ -652,8 +652,8 @@ TEST_CASE("light through one internal reflection: the chain estimator agrees wit
           "[integrator][render]") {
     // The two-vertex manifold walk (an internal reflection, then the
     // refraction out) beside the one-refraction walk, each weighed by MIS
-    // against phase-sampled paths of its own chain, against paths alone
-    // (every estimator off) and against the one-refraction walk alone, all
+    // against phase-sampled paths of its own chain, and the one-refraction
+    // walk alone, each against paths alone (every estimator off), all
     // without the light guide, and with it against paths alone: same
     // integral, so the images agree. (One guided render against another at
     // 256 spp reached block z of 4–6: where one render leaves a chain to
@@ -697,8 +697,13 @@ TEST_CASE("light through one internal reflection: the chain estimator agrees wit
             walks.seed = 43;
             walks.integrator.light_chain = LightChain::Two;
             const RenderResult two = render(s, cam, walks);
+            // Each against the disc hits' 2048 spp, not one against the
+            // other: two renders of 256 spp both leave rare events to disc
+            // hits, and their per-block variances fall short of them (one
+            // walk against the other reached block z 4.6 and 5.4 in two of
+            // five seed pairs, each against the disc hits stayed under 2.9).
             check_agreement(without.film, two.film, 16);
-            check_agreement(one.film, two.film, 16);
+            check_agreement(without.film, one.film, 16);
             CHECK(two.counters.manifold_walks > one.counters.manifold_walks);
             // With the light guide mixed into both chains (and its third
             // chain, off the outside, on the cow).

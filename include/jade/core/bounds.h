@@ -17,6 +17,9 @@ struct Bounds3 {
     }
     glm::vec3 centre() const { return 0.5f * (min + max); }
     glm::vec3 extent() const { return max - min; }
+    bool contains(const glm::vec3& p) const {
+        return p.x >= min.x && p.y >= min.y && p.z >= min.z && p.x <= max.x && p.y <= max.y && p.z <= max.z;
+    }
 };
 
 // The cube the volume fills: around the mesh's bounding box, side = its

@@ -81,6 +81,8 @@ public:
     // query: for decisions the clearance grid is too coarse to make.
     float distance_to_surface(const glm::vec3& p, float max_distance) const;
     const TriangleMesh& mesh() const { return mesh_; }
+    // The mesh's bounding box (kept: TriangleMesh::bounds() visits every vertex).
+    const Bounds3& bounds() const { return bounds_; }
     // The mesh bounds a convex body (geometry/topology.h, is_convex): a ray
     // leaving its surface outward needs no query, it meets nothing more.
     bool convex() const { return convex_; }
@@ -90,6 +92,7 @@ public:
 private:
     struct Embree;
     const TriangleMesh& mesh_;
+    Bounds3 bounds_;
     bool flat_;
     // What a hit needs of its triangle, in one 48-byte record: the unit face
     // normal, (p1 - p0) × (p2 - p0) normalised, and the three vertex normals.

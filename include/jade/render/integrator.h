@@ -133,6 +133,7 @@ private:
     double sphere_room(PathState& s, const Spectrum& sigma_t) const;
     Flight track(PathState& s, float t_max, MediumProperties& at) const;
     Flight fly(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
+    Flight fly_drawn(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
     void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
