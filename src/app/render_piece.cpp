@@ -21,7 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr int kPieceFormat = 1;
+// Format 2 added the strata's sums (render/film.h); format 1's pieces, which
+// have none, read as films of one stratum.
+constexpr int kPieceFormat = 2;
+constexpr int kOtherStrata = Film::kStrata - 1;
 constexpr const char* kPieceAttribute = "jade:piece";
 constexpr int kWords = 4;  // 32-bit words of a 128-bit sum
 constexpr const char* kChannelNames[3] = {"R", "G", "B"};
@@ -113,6 +116,13 @@ std::string piece_path(const std::string& out, const PieceRange& r, int width, i
 
 namespace {
 
+// A stratum's channel: its sum's 32-bit word w of a colour channel, or
+// (w < 0) its count.
+std::string stratum_channel(int stratum, const char* what, int w) {
+    const std::string name = "stratum" + std::to_string(stratum) + "." + what;
+    return w < 0 ? name : name + "." + std::to_string(w);
+}
+
 // The piece's pixels as two EXR parts: a float preview and the exact sums.
 std::vector<ExrPart> piece_parts(const Film& film, const PixelBounds& b, bool transparent) {
     ExrPart preview, sums;
@@ -134,6 +144,11 @@ std::vector<ExrPart> piece_parts(const Film& film, const PixelBounds& b, bool tr
                 sums.channels.push_back(std::string(kind) + "." + c + "." + std::to_string(w));
     sums.channels.push_back("count");
     sums.channels.push_back("hits");
+    for (int k = 1; k <= kOtherStrata; ++k) {
+        for (const char* c : kChannelNames)
+            for (int w = 0; w < kWords; ++w) sums.channels.push_back(stratum_channel(k, c, w));
+        sums.channels.push_back(stratum_channel(k, "count", -1));
+    }
     const std::vector<float> rgba = film.rgba(transparent);
     for (int y = b.y0; y < b.y1; ++y)
         for (int x = b.x0; x < b.x1; ++x) {
@@ -146,6 +161,13 @@ std::vector<ExrPart> piece_parts(const Film& film, const PixelBounds& b, bool tr
                 }
             sums.uints.push_back(film.counts()[i]);
             sums.uints.push_back(film.object_hits()[i]);
+            for (int k = 0; k < kOtherStrata; ++k) {
+                for (int c = 0; c < 3; ++c) {
+                    const auto u = static_cast<unsigned __int128>(film.stratum_sums()[3 * (kOtherStrata * i + k) + c]);
+                    for (int w = 0; w < kWords; ++w) sums.uints.push_back(std::uint32_t(u >> (32 * w)));
+                }
+                sums.uints.push_back(film.stratum_counts()[kOtherStrata * i + k]);
+            }
         }
     return {preview, sums};
 }
@@ -171,7 +193,7 @@ void write_render_piece(const std::string& path, const RenderJob& job, const Pie
 namespace {
 
 // The film of a piece's "sums" part, checked against the piece's range.
-Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r) {
+Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r, int format) {
     std::vector<int> index;
     for (const char* kind : {"sum", "sumsq"})
         for (const char* c : kChannelNames)
@@ -179,6 +201,13 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r) 
                 index.push_back(p.channel(std::string(kind) + "." + c + "." + std::to_string(w)));
     index.push_back(p.channel("count"));
     index.push_back(p.channel("hits"));
+    const std::size_t strata_at = index.size();
+    if (format >= 2)
+        for (int k = 1; k <= kOtherStrata; ++k) {
+            for (const char* c : kChannelNames)
+                for (int w = 0; w < kWords; ++w) index.push_back(p.channel(stratum_channel(k, c, w)));
+            index.push_back(p.channel(stratum_channel(k, "count", -1)));
+        }
     if (!p.integer || std::count(index.begin(), index.end(), -1) > 0)
         fail_file(path, "the piece's sums lack channels");
     const PixelBounds& b = r.pixels;
@@ -198,6 +227,8 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r) 
     s.sum_sq.assign(3 * n, 0);
     s.count.assign(n, 0);
     s.hits.assign(n, 0);
+    s.stratum_sum.assign(3 * kOtherStrata * n, 0);
+    s.stratum_count.assign(kOtherStrata * n, 0);
     const std::uint32_t expected = std::uint32_t(r.samples.last - r.samples.first);
     for (int y = 0; y < p.height; ++y)
         for (int x = 0; x < p.width; ++x) {
@@ -210,6 +241,17 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r) 
             }
             s.count[i] = px[index[6 * kWords]];
             s.hits[i] = px[index[6 * kWords + 1]];
+            if (format >= 2)
+                for (int k = 0; k < kOtherStrata; ++k) {
+                    const int* at = &index[strata_at + std::size_t(k) * (3 * kWords + 1)];
+                    for (int c = 0; c < 3; ++c) {
+                        unsigned __int128 u = 0;
+                        for (int w = 0; w < kWords; ++w)
+                            u |= static_cast<unsigned __int128>(px[at[kWords * c + w]]) << (32 * w);
+                        s.stratum_sum[3 * (kOtherStrata * i + k) + c] = static_cast<__int128>(u);
+                    }
+                    s.stratum_count[kOtherStrata * i + k] = px[at[3 * kWords]];
+                }
             if (s.count[i] != expected) fail_file(path, "a pixel's sample count disagrees with the piece's range");
         }
     try {
@@ -237,7 +279,8 @@ PieceRange read_range(const std::string& path, const json& meta) {
 RenderPiece read_render_piece(const std::string& path) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) fail_file(path, "no such piece (not rendered yet, or rendered with flags beside --job: then name the pieces)");
-    const std::vector<ExrPart> parts = read_exr_parts(path, 2, 6 * kWords + 2 + 4);
+    const std::vector<ExrPart> parts =
+        read_exr_parts(path, 2, 6 * kWords + 2 + kOtherStrata * (3 * kWords + 1) + 4);
     const ExrPart* sums = nullptr;
     for (const ExrPart& p : parts)
         if (p.name == "sums" && !p.attribute(kPieceAttribute).empty()) sums = &p;
@@ -248,8 +291,9 @@ RenderPiece read_render_piece(const std::string& path) {
     } catch (const json::exception&) {
         fail_file(path, "the piece's jade:piece attribute is not valid JSON");
     }
-    if (!meta.is_object() || meta.value("format", 0) != kPieceFormat)
-        fail_file(path, "is a piece of an unknown format (this jaderender reads format " +
+    const int format = meta.is_object() ? meta.value("format", 0) : 0;
+    if (format != 1 && format != kPieceFormat)
+        fail_file(path, "is a piece of an unknown format (this jaderender reads formats 1 to " +
                             std::to_string(kPieceFormat) + ")");
     RenderPiece piece;
     piece.file = path;
@@ -266,7 +310,7 @@ RenderPiece read_render_piece(const std::string& path) {
     }
     piece.exposure = meta.value("exposure", 1.f);
     piece.seconds = meta.value("seconds", 0.0);
-    piece.film = piece_film(path, *sums, piece.range);
+    piece.film = piece_film(path, *sums, piece.range, format);
     return piece;
 }
 

@@ -48,9 +48,12 @@ __int128 to_fixed(double v) {
 }  // namespace
 
 namespace {
-// A film's memory per pixel: Σx and Σx² per channel, the two counts, and the
-// float RGBA image written from it.
-constexpr std::uint64_t kFilmBytesPerPixel = 2 * 3 * sizeof(__int128) + 2 * sizeof(std::uint32_t) + 4 * sizeof(float);
+// The strata besides stratum 0, whose sums and counts are kept apart.
+constexpr int kOtherStrata = Film::kStrata - 1;
+// A film's memory per pixel: Σx and Σx² per channel, the two counts, the
+// other strata's Σx and counts, and the float RGBA image written from it.
+constexpr std::uint64_t kFilmBytesPerPixel = (2 + kOtherStrata) * 3 * sizeof(__int128) +
+                                             (2 + kOtherStrata) * sizeof(std::uint32_t) + 4 * sizeof(float);
 
 int checked_size(int width, int height) {
     if (width < 0 || height < 0) throw Error("internal: a film's size is negative");
@@ -63,15 +66,24 @@ int checked_size(int width, int height) {
 Film::Film(int width, int height)
     : width_(checked_size(width, height)), height_(height), sum_(std::size_t(width) * height * 3, 0),
       sum_sq_(std::size_t(width) * height * 3, 0), count_(std::size_t(width) * height, 0),
-      hits_(std::size_t(width) * height, 0) {}
+      hits_(std::size_t(width) * height, 0), stratum_sum_(std::size_t(width) * height * 3 * kOtherStrata, 0),
+      stratum_count_(std::size_t(width) * height * kOtherStrata, 0) {}
 
 Film Film::from_sums(Sums s) {
     Film film(s.width, s.height);
     const std::size_t n = std::size_t(s.width) * s.height;
     if (s.sum.size() != 3 * n || s.sum_sq.size() != 3 * n || s.count.size() != n || s.hits.size() != n)
         throw Error("a film's sums do not match its size");
-    for (std::size_t i = 0; i < n; ++i)
+    if (s.stratum_sum.size() != 3 * kOtherStrata * n || s.stratum_count.size() != kOtherStrata * n)
+        throw Error("a film's strata do not match its size");
+    for (std::size_t i = 0; i < n; ++i) {
         if (s.hits[i] > s.count[i]) throw Error("a film's pixel has more object hits than samples");
+        std::uint64_t in_strata = 0;
+        for (int k = 0; k < kOtherStrata; ++k) in_strata += s.stratum_count[kOtherStrata * i + k];
+        if (in_strata > s.count[i]) throw Error("a film's pixel has more samples in its strata than in all");
+    }
+    film.stratum_sum_ = std::move(s.stratum_sum);
+    film.stratum_count_ = std::move(s.stratum_count);
     film.sum_ = std::move(s.sum);
     film.sum_sq_ = std::move(s.sum_sq);
     film.count_ = std::move(s.count);
@@ -91,13 +103,17 @@ int Film::fewest_samples() const {
     return count_.empty() ? 0 : int(*std::min_element(count_.begin(), count_.end()));
 }
 
-void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object) {
+void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum) {
+    if (stratum < 0 || stratum >= kStrata) throw Error("internal: a film sample's stratum is out of range");
     const std::size_t i = index(x, y);
     for (int c = 0; c < 3; ++c) {
         const double v = radiance[c];
-        sum_[3 * i + c] += to_fixed(v);
+        const __int128 fixed = to_fixed(v);
+        sum_[3 * i + c] += fixed;
         sum_sq_[3 * i + c] += to_fixed(v * v);  // exact in double: v is a float
+        if (stratum > 0) stratum_sum_[3 * (kOtherStrata * i + (stratum - 1)) + c] += fixed;
     }
+    if (stratum > 0) ++stratum_count_[kOtherStrata * i + (stratum - 1)];
     ++count_[i];
     hits_[i] += hit_object ? 1u : 0u;
 }
@@ -113,6 +129,8 @@ void Film::merge(const Film& o) {
         count_[i] += o.count_[i];
         hits_[i] += o.hits_[i];
     }
+    for (std::size_t k = 0; k < stratum_sum_.size(); ++k) stratum_sum_[k] += o.stratum_sum_[k];
+    for (std::size_t k = 0; k < stratum_count_.size(); ++k) stratum_count_[k] += o.stratum_count_[k];
 }
 
 double Film::sum(std::size_t i, int c) const { return double(sum_[3 * i + c]) / kUnit; }
@@ -122,19 +140,75 @@ Spectrum Film::mean(int x, int y) const {
     const std::size_t i = index(x, y);
     const double n = count_[i];
     if (n == 0) return Spectrum(0.f);
-    return Spectrum(float(sum(i, 0) / n), float(sum(i, 1) / n), float(sum(i, 2) / n));
+    return Spectrum(float(pixel_mean(i, 0)), float(pixel_mean(i, 1)), float(pixel_mean(i, 2)));
+}
+
+// Pixel i's sums and counts in channel c per stratum (stratum 0 is what
+// the others leave), and how many strata hold samples.
+int Film::strata(std::size_t i, int c, double* sums, std::uint32_t* counts) const {
+    __int128 rest = sum_[3 * i + c];
+    std::uint32_t rest_count = count_[i];
+    int filled = 0;
+    for (int k = 0; k < kOtherStrata; ++k) {
+        const __int128 fixed = stratum_sum_[3 * (kOtherStrata * i + k) + c];
+        counts[k + 1] = stratum_count_[kOtherStrata * i + k];
+        sums[k + 1] = double(fixed) / kUnit;
+        rest -= fixed;
+        rest_count -= counts[k + 1];
+        filled += counts[k + 1] > 0 ? 1 : 0;
+    }
+    counts[0] = rest_count;
+    sums[0] = double(rest) / kUnit;
+    return filled + (rest_count > 0 ? 1 : 0);
+}
+
+// With samples in every stratum, the strata being equally likely (each
+// sample's hero is uniform), the average of the strata's means: the
+// stratified estimate, whose error has no part from how many samples fell
+// in each stratum (64 samples are 21, 21 and 22: Σx/n would weigh one
+// stratum more, at random, and in a white furnace, whose heroes differ
+// far more than their samples do, that spread is most of the error).
+// Otherwise Σx/n, each sample being unbiased on its own.
+double Film::pixel_mean(std::size_t i, int c) const {
+    const double n = count_[i];
+    if (n == 0) return 0.0;
+    double sums[kStrata];
+    std::uint32_t counts[kStrata];
+    if (strata(i, c, sums, counts) < kStrata) return sum(i, c) / n;
+    double m = 0.0;
+    for (int h = 0; h < kStrata; ++h) m += sums[h] / counts[h];
+    return m / kStrata;
+}
+
+// The variance of pixel_mean. For the stratified mean, (1/K²) Σ_h σ_h²/n_h,
+// with σ² pooled within the strata: Σx² − Σ_h S_h²/n_h has expectation
+// Σ_h (n_h − 1) σ_h², so over n − K it is unbiased when the strata are of
+// one size (as the pixel's samples make them, to one sample). With a
+// stratum of fewer than two samples there is nothing to pool in it: the
+// sample variance over n, which also counts the spread between the strata,
+// is the safe side; for Σx/n it is the estimate itself.
+double Film::mean_variance(std::size_t i, int c) const {
+    const double n = count_[i];
+    if (n < 2) return std::numeric_limits<double>::quiet_NaN();
+    const double all = sum(i, c);
+    const double sample = std::max(0.0, (sum_sq(i, c) - all * all / n) / (n - 1.0)) / n;
+    double sums[kStrata];
+    std::uint32_t counts[kStrata];
+    if (strata(i, c, sums, counts) < kStrata) return sample;
+    double between = 0.0, inverse_counts = 0.0;
+    for (int h = 0; h < kStrata; ++h) {
+        if (counts[h] < 2) return sample;
+        between += sums[h] * sums[h] / counts[h];
+        inverse_counts += 1.0 / counts[h];
+    }
+    const double pooled = std::max(0.0, sum_sq(i, c) - between) / (n - kStrata);
+    return pooled * inverse_counts / (double(kStrata) * kStrata);
 }
 
 Spectrum Film::variance_of_mean(int x, int y) const {
     const std::size_t i = index(x, y);
-    const double n = count_[i];
-    if (n < 2) return Spectrum(std::numeric_limits<float>::quiet_NaN());
     Spectrum v;
-    for (int c = 0; c < 3; ++c) {
-        const double m = sum(i, c) / n;
-        const double var = std::max(0.0, (sum_sq(i, c) - n * m * m) / (n - 1.0));
-        v[c] = float(var / n);
-    }
+    for (int c = 0; c < 3; ++c) v[c] = float(mean_variance(i, c));
     return v;
 }
 
@@ -154,7 +228,7 @@ double Film::estimated_relative_error() const {
     };
     for (std::size_t i = 0; i < count_.size(); ++i) {
         if (!object(i)) continue;
-        for (int c = 0; c < 3; ++c) level += sum(i, c) / count_[i];
+        for (int c = 0; c < 3; ++c) level += pixel_mean(i, c);
         count += 3;
     }
     if (count == 0) return std::numeric_limits<double>::quiet_NaN();
@@ -163,11 +237,9 @@ double Film::estimated_relative_error() const {
     double total = 0.0;
     for (std::size_t i = 0; i < count_.size(); ++i) {
         if (!object(i)) continue;
-        const double n = count_[i];
         for (int c = 0; c < 3; ++c) {
-            const double m = sum(i, c) / n;
-            const double var = std::max(0.0, (sum_sq(i, c) - n * m * m) / (n - 1.0)) / n;
-            total += var / (m * m + epsilon);
+            const double m = pixel_mean(i, c);
+            total += mean_variance(i, c) / (m * m + epsilon);
         }
     }
     return std::sqrt(total / double(count));

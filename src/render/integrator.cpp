@@ -161,16 +161,18 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, s
 
 PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
                              PathCounters& counters) const {
+    const int hero = std::min(2, int(3.f * rng.uniform()));
     return trace(origin, direction, scene_.boundary->intersect(origin, direction, 0.f, kInfinity),
-                 rng, counters);
+                 hero, rng, counters);
 }
 
 PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction,
-                             const std::optional<SurfaceHit>& first_hit, SampleStream& rng,
+                             const std::optional<SurfaceHit>& first_hit, int hero, SampleStream& rng,
                              PathCounters& counters) const {
+    if (hero < 0 || hero > 2) throw Error("internal: a hero channel is 0, 1 or 2");
     ++counters.paths;
     PathState s(origin, direction, rng, counters);
-    s.hero = std::min(2, int(3.f * rng.uniform()));
+    s.hero = hero;
     for (bool first = true;; first = false) {
         std::optional<SurfaceHit> hit;
         if (first) {  // from outside, the query below, answered by the caller

@@ -1,5 +1,7 @@
 #include "jade/render/renderer.h"
 
+#include "jade/render/pixel_sampler.h"
+
 #include "jade/io/atomic_file.h"
 #include "jade/core/error.h"
 #include "jade/core/progress.h"
@@ -61,10 +63,10 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
         scene.boundary->intersect_packet(camera.origin(), direction.data(), n, hit.data());
         for (int i = 0; i < n; ++i) {
             const auto k = std::size_t(i);
-            const PathSample ps =
-                integrator.trace(camera.origin(), direction[k], hit[k], rng[k], counters);
+            const int hero = stratified_hero(settings.seed, pixel, std::uint64_t(first + i));
+            const PathSample ps = integrator.trace(camera.origin(), direction[k], hit[k], hero, rng[k], counters);
             const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
-            film.add_sample(x, y, ps.radiance + behind, ps.hit_object);
+            film.add_sample(x, y, ps.radiance + behind, ps.hit_object, hero);
         }
     }
 }

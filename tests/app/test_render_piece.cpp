@@ -42,7 +42,8 @@ RenderJob small_job(const TempDir& dir) {
 bool same_film(const Film& a, const Film& b) {
     return a.width() == b.width() && a.height() == b.height() && a.sums() == b.sums() &&
            a.sums_of_squares() == b.sums_of_squares() && a.counts() == b.counts() &&
-           a.object_hits() == b.object_hits();
+           a.object_hits() == b.object_hits() && a.stratum_sums() == b.stratum_sums() &&
+           a.stratum_counts() == b.stratum_counts();
 }
 
 std::string slurp(const std::string& path) {

@@ -110,9 +110,16 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
         // The check's own noise at 64 spp (its standard error here is below
         // 0.2 levels) and the noise bias left at 64 against 256 spp: 0.6.
         CHECK(check.delta[c] == Approx(before[c]).margin(0.6));
-        CHECK(std::abs(after[c]) < 1.0);
+        // A channel the check foresees off by the tolerance or more is
+        // corrected into it; one it foresees inside is left, and may then
+        // lie outside by as much as the foresight's own error.
+        if (std::abs(check.delta[c]) >= 1.0)
+            CHECK(std::abs(after[c]) < 1.0);
+        else
+            CHECK(std::abs(after[c]) < 1.0 + 0.6);
     }
-    CHECK(check.renders >= 1);
+    const bool foreseen_off = std::max({std::abs(check.delta[0]), std::abs(check.delta[1]), std::abs(check.delta[2])}) >= 1.0;
+    CHECK((check.renders >= 1) == foreseen_off);
     CHECK(check.renders <= 3);
     // The size matters here: without the check, a channel is off by more than the tolerance.
     CHECK(std::max({std::abs(before[0]), std::abs(before[1]), std::abs(before[2])}) > 1.0);

@@ -688,7 +688,7 @@ TEST_CASE("light through one internal reflection: the chain estimator agrees wit
             const RenderResult without =
                 render_spp(s, cam, 2048, 41, IntegratorSettings{}.max_depth, LightThroughBoundary::Off);
             RenderSettings walks;
-            walks.spp = 256;
+            walks.spp = 1024;
             walks.integrator.light_through_boundary = LightThroughBoundary::Manifold;
             walks.integrator.light_guide = false;
             walks.seed = 42;
@@ -701,7 +701,12 @@ TEST_CASE("light through one internal reflection: the chain estimator agrees wit
             // other: two renders of 256 spp both leave rare events to disc
             // hits, and their per-block variances fall short of them (one
             // walk against the other reached block z 4.6 and 5.4 in two of
-            // five seed pairs, each against the disc hits stayed under 2.9).
+            // five seed pairs). The walks take 1024 spp: their own rare
+            // large contributions, which a render of 256 spp mostly lacks,
+            // put the cow's chain-2 render below the disc hits by block z
+            // 5.6 at 256 spp (seed 43), 3.3 at 512, ≤ 3.7 over three seeds
+            // at 1024 and 2.2 at 4096: a shortfall that shrinks with the
+            // samples, the mark of a heavy tail and not of a bias.
             check_agreement(without.film, two.film, 16);
             check_agreement(without.film, one.film, 16);
             CHECK(two.counters.manifold_walks > one.counters.manifold_walks);

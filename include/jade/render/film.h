@@ -3,6 +3,11 @@
 // so every pass knows the variance of each pixel's mean and can say how far
 // the image is from converged without a reference. Pixels use a box filter
 // (a pixel is the mean radiance over its square), as the reference renders do.
+// A sample belongs to one of kStrata strata (its hero channel: a pixel's
+// samples take them in turn, render/pixel_sampler.h), and each stratum's sum
+// is kept too: the spread between the strata's means is not noise of the
+// pixel's mean, so the variance is taken within strata (docs/design.md,
+// "Stratified pixel samples").
 
 #include "jade/io/image_io.h"
 #include "jade/core/spectrum.h"
@@ -30,15 +35,21 @@ public:
     // time budget, pixels differ).
     int fewest_samples() const;
 
-    // Adds one sample to pixel (x, y). A pixel is written by one thread at a time.
-    void add_sample(int x, int y, const Spectrum& radiance, bool hit_object);
+    static constexpr int kStrata = 3;
+    // Adds one sample of stratum `stratum` (0 ≤ stratum < kStrata) to pixel
+    // (x, y). A pixel is written by one thread at a time.
+    void add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum = 0);
     // Adds another film's samples (same size), pixel by pixel. The sums are
     // exact, so merging is associative: pieces of a render merged in any
     // grouping give the bits of one render of all their samples.
     void merge(const Film& other);
 
+    // The pixel's mean: with samples in every stratum the average of the
+    // strata's means (the strata are equally likely), else Σx / n.
+    // Variance of that mean, per channel: from the variance within strata,
+    // pooled (the sample variance over n when not every stratum holds two
+    // samples: then the larger value). NaN below 2 samples.
     Spectrum mean(int x, int y) const;
-    // Variance of the pixel's mean (sample variance / n), per channel.
     Spectrum variance_of_mean(int x, int y) const;
     // Fraction of the pixel's camera rays that met the object.
     float coverage(int x, int y) const;
@@ -58,18 +69,23 @@ public:
 
     // The film's exact state: per pixel (row-major) Σx and Σx² per channel as
     // fixed-point integers in 2^-64 units, the sample count and the count of
-    // samples that met the object. What a piece of a split render stores
+    // samples that met the object; and Σx per channel and the sample count of
+    // strata 1 … kStrata − 1 (stratum 0 holds the rest). What a piece of a split render stores
     // (app/render_piece.h), so that merging pieces read back from disk is as
     // exact as merging them in memory.
     struct Sums {
         int width = 0, height = 0;
         std::vector<__int128> sum, sum_sq;  // 3 per pixel
         std::vector<std::uint32_t> count, hits;
+        std::vector<__int128> stratum_sum;         // 3 (kStrata − 1) per pixel
+        std::vector<std::uint32_t> stratum_count;  // kStrata − 1 per pixel
     };
     const std::vector<__int128>& sums() const { return sum_; }
     const std::vector<__int128>& sums_of_squares() const { return sum_sq_; }
     const std::vector<std::uint32_t>& counts() const { return count_; }
     const std::vector<std::uint32_t>& object_hits() const { return hits_; }
+    const std::vector<__int128>& stratum_sums() const { return stratum_sum_; }
+    const std::vector<std::uint32_t>& stratum_counts() const { return stratum_count_; }
     // A film holding exactly these sums (throws jade::Error when the sizes
     // disagree or a pixel has more object hits than samples).
     static Film from_sums(Sums sums);
@@ -78,6 +94,9 @@ private:
     std::size_t index(int x, int y) const { return std::size_t(y) * width_ + x; }
     double sum(std::size_t i, int c) const;
     double sum_sq(std::size_t i, int c) const;
+    int strata(std::size_t i, int c, double* sums, std::uint32_t* counts) const;
+    double pixel_mean(std::size_t i, int c) const;
+    double mean_variance(std::size_t i, int c) const;
 
     int width_, height_;
     // Σx and Σx² per pixel and channel as fixed-point integers (2^-64 units):
@@ -85,6 +104,8 @@ private:
     // floating-point sums do. A float sample ≥ 2^-40 is held exactly.
     std::vector<__int128> sum_, sum_sq_;  // 3 per pixel
     std::vector<std::uint32_t> count_, hits_;
+    std::vector<__int128> stratum_sum_;         // strata 1 …, 3 per stratum and pixel
+    std::vector<std::uint32_t> stratum_count_;  // strata 1 …, per pixel
 };
 
 // Error of a film against a reference image of the same size (RGB or more).

@@ -4,7 +4,8 @@
 //
 // Free flights are sampled by delta tracking (Woodcock et al. 1965) against
 // the medium's majorant segments (render/tracking.h). RGB media are
-// chromatic, so each path picks a hero channel uniformly, draws its free
+// chromatic, so each path has a hero channel, uniform (a pixel's samples
+// take the channels in turn: render/pixel_sampler.h), draws its free
 // flights against that channel's majorant and chooses its collision events
 // (absorb / scatter / null) with that channel's probabilities (spectral
 // tracking); the path's weight for each channel is then combined across
@@ -119,10 +120,11 @@ public:
     PathSample trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
                      PathCounters& counters) const;
     // The same path when its first boundary query, from `origin` along
-    // `direction` over (0, ∞), is answered already: camera rays are traced
-    // in packets (MeshAccel::intersect_packet).
+    // `direction` over (0, ∞), is answered already (camera rays are traced
+    // in packets, MeshAccel::intersect_packet) and its hero channel chosen
+    // (render/pixel_sampler.h): the caller's uniform choice.
     PathSample trace(const glm::vec3& origin, const glm::vec3& direction,
-                     const std::optional<SurfaceHit>& first_hit, SampleStream& rng,
+                     const std::optional<SurfaceHit>& first_hit, int hero, SampleStream& rng,
                      PathCounters& counters) const;
 
 private:
