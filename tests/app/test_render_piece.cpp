@@ -191,3 +191,43 @@ TEST_CASE("range flags: parsed strictly, checked against the job", "[piece]") {
     job.settings.time_limit = 5;
     CHECK_THROWS_WITH(validate_piece(job, {{0, 4}, {0, 0, 40, 32}}), Catch::Contains("--time"));
 }
+
+TEST_CASE("a piece of format 1, written before the film kept its strata, reads as one stratum", "[piece]") {
+    TempDir dir;
+    const RenderJob job = small_job(dir);
+    const std::vector<std::string> files = render_pieces(job, sample_cuts(job, {0, 29}));
+    const RenderPiece now = read_render_piece(files[0]);
+    // The same piece as format 1 wrote it: no stratum channels, "format": 1.
+    std::vector<ExrPart> parts = read_exr_parts(files[0], 2, 64);
+    REQUIRE(parts.size() == 2);
+    ExrPart& sums = parts[1];
+    std::vector<int> kept;
+    std::vector<std::string> names;
+    for (std::size_t k = 0; k < sums.channels.size(); ++k)
+        if (sums.channels[k].rfind("stratum", 0) != 0) {
+            kept.push_back(int(k));
+            names.push_back(sums.channels[k]);
+        }
+    REQUIRE(kept.size() < sums.channels.size());
+    std::vector<std::uint32_t> old;
+    for (std::size_t p = 0; p < sums.uints.size() / sums.channels.size(); ++p)
+        for (int k : kept) old.push_back(sums.uints[p * sums.channels.size() + std::size_t(k)]);
+    sums.channels = names;
+    sums.uints = old;
+    for (auto& [key, value] : sums.attributes)
+        if (key == "jade:piece") {
+            const std::size_t at = value.find("\"format\":2");
+            REQUIRE(at != std::string::npos);
+            value.replace(at, 10, "\"format\":1");
+        }
+    write_exr_parts(dir.file("old.exr"), parts);
+    const RenderPiece then = read_render_piece(dir.file("old.exr"));
+    CHECK(then.film.sums() == now.film.sums());
+    CHECK(then.film.sums_of_squares() == now.film.sums_of_squares());
+    CHECK(then.film.counts() == now.film.counts());
+    for (std::uint32_t n : then.film.stratum_counts()) CHECK(n == 0);
+    // One stratum: the pixel is Σx / n, with the sample variance.
+    const double n = then.film.counts()[0];
+    const double sum = double(then.film.sums()[0]) / 18446744073709551616.0;
+    CHECK(then.film.mean(0, 0).x == Approx(sum / n));
+}
