@@ -129,18 +129,11 @@ struct Integrator::PathState {
     // behind it for good: no query needed).
     bool left_surface = false;
     // What the path did since its last scattering, for MIS with the light
-    // estimators (PathToLight): only null collisions and index-matched
-    // crossings (Straight), then exactly one refraction out (Refracted), or
-    // one internal reflection (Reflected) and then the refraction out
-    // (ReflectedRefracted), or the refraction out and a reflection off the
-    // outside (RefractedReflected, while enter() counts that reflection), or
-    // anything else (Other).
-    enum class Since { Other, Straight, Refracted, Reflected, ReflectedRefracted, RefractedReflected };
-    Since since = Since::Other;
-    glm::vec3 scattered_at{0.f}, scattered_along{0.f};  // that scattering's vertex and direction
-    float phase_pdf = 0.f;                              // and the phase function's density of it
-    glm::vec3 reflection_point{0.f};                    // where the path then reflected
-    glm::vec3 exit_point{0.f};                          // where it refracted out
+    // estimators (PathToLight): the specular chain so far, and that
+    // scattering's vertex, direction and the phase function's density of it.
+    ChainTracker chain;
+    glm::vec3 scattered_at{0.f}, scattered_along{0.f};
+    float phase_pdf = 0.f;
     int depth = 0, crossings = 0;
     glm::vec3 collision{0.f};  // where track() stopped at a real scattering
     float query_from = 0.f;    // the next surface query starts this far along the ray (Scene::spawn_inside)
@@ -238,7 +231,7 @@ double Integrator::sphere_room(PathState& s, const Spectrum& sigma_t) const {
 // every channel's weight gains (σ_s/σ_s[h])^n for the scatterings and T/T[h] = e^(−(σ_t − σ_t[h]) L) for the flights, formed in
 // logarithms (n reaches 10¹⁰ in the stiffest media we test). A walk with
 // collisions leaves the last scattering unknown: the path then meets a light
-// with full weight (since = Other), no light estimate having been made there.
+// with full weight (ChainTracker::lose), no light estimate having been made there.
 Integrator::Walk Integrator::walk_sphere(PathState& s) const {
     if (sphere_exits_.levels() == 0) return Walk::NotTaken;
     const MediumProperties m = scene_.medium->at(s.o);
@@ -274,7 +267,7 @@ Integrator::Walk Integrator::walk_sphere(PathState& s) const {
     s.d = glm::normalize(sphere_exit_to_world(e.direction, s.d, c, sn));
     if (e.collisions > 0.0) {
         s.straight = false;
-        s.since = PathState::Since::Other;
+        s.chain.lose();
     }
     return Walk::Left;
 }
@@ -435,7 +428,7 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
     s.d = scene_.phase.sample(d_in, u1, u2);
     s.straight = false;
-    s.since = PathState::Since::Straight;
+    s.chain.scattered();
     s.scattered_at = s.collision;
     s.scattered_along = s.d;
     s.phase_pdf = scene_.phase.eval(d_in, s.d);
@@ -486,7 +479,7 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
             entering ? enter(s, p, ng, n, u) : sample_boundary(scene_.interface, s.d, n, false, u);
         if (!sampled) return false;
         const BoundarySample& bs = *sampled;
-        record_specular_event(s, p, entering, bs.reflected, glm::dot(bs.direction, ng) < 0.f);
+        s.chain.record(p, entering, bs.reflected, glm::dot(bs.direction, ng) < 0.f);
         s.d = bs.direction;
         s.straight = false;
         if (!survive(s)) return false;
@@ -502,28 +495,6 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
         s.o = scene_.offset(p, ng, s.d);
     }
     return true;
-}
-
-// The chain since the last scattering after a surface event at p (the
-// light estimators' path classes, PathToLight): a refraction out after
-// nothing, or after one internal reflection that stayed inside, is one
-// they make; anything else is not.
-void Integrator::record_specular_event(PathState& s, const glm::vec3& p, bool entering, bool reflected,
-                                       bool inside_after) const {
-    using Since = PathState::Since;
-    const bool refracted_out = !entering && !reflected;
-    if (s.since == Since::Straight && !entering && reflected && inside_after) {
-        s.since = Since::Reflected;
-        s.reflection_point = p;
-    } else if (s.since == Since::Straight && refracted_out) {
-        s.since = Since::Refracted;
-        s.exit_point = p;
-    } else if (s.since == Since::Reflected && refracted_out) {
-        s.since = Since::ReflectedRefracted;
-        s.exit_point = p;
-    } else {
-        s.since = Since::Other;
-    }
 }
 
 // A ray arriving from outside at surface point p. Where its mirror image
@@ -549,14 +520,10 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
     // After one refraction out since the last scattering, the light's part
     // is a path the guided estimator makes too (light_estimators/guided.h):
     // weighed by MIS against it. No estimator makes any other path that
-    // reflects off the outside.
-    if (s.since == PathState::Since::Refracted) {
-        s.since = PathState::Since::RefractedReflected;
-        s.reflection_point = p;
-    }
+    // reflects off the outside (ChainTracker::glint classes them so).
     s.out.radiance += s.w.beta * (1.f - t.weight) *
                       (scene_.environment.radiance_toward(mirror) +
-                       met_light(s, scene_.light, estimators_.directional, mirror));
+                       met_light(s, scene_.light, estimators_.directional, mirror, s.chain.glint(p)));
     if (u >= t.weight) return std::nullopt;
     return BoundarySample{t.direction, false};
 }
@@ -570,35 +537,32 @@ void Integrator::escape(PathState& s) const {
         s.out.backdrop_direction = s.d;
         return;
     }
-    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment, s.d) +
-                                  met_light(s, scene_.light, estimators_.directional, s.d));
+    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment, s.d, s.chain) +
+                                  met_light(s, scene_.light, estimators_.directional, s.d, s.chain));
 }
 
-// The radiance a path leaving along `leaving` counts from `light`: all of
-// it, unless an estimator could have made the path since the last
-// scattering too; then none (LightHits::Excluded) or its balance-heuristic
-// share: r_l is the estimator's density of the scattering's direction
-// relative to the phase function's (the events since the scattering, null
-// collisions and the specular chain, scaled both strategies' densities
-// alike). The estimators' path classes are disjoint: at most one has a
-// density here.
+// The radiance a path leaving along `leaving` by `chain` (since the last
+// scattering) counts from `light`: all of it, unless an estimator could
+// have made the path too; then none (LightHits::Excluded) or its
+// balance-heuristic share: r_l is the estimator's density of the
+// scattering's direction relative to the phase function's (the events
+// since the scattering, null collisions and the specular chain, scaled
+// both strategies' densities alike). The estimators' path classes are
+// disjoint: at most one has a density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
                                const std::vector<std::unique_ptr<LightEstimator>>& estimators,
-                               const glm::vec3& leaving) const {
-    using Since = PathState::Since;
+                               const glm::vec3& leaving, const ChainTracker& chain) const {
     const Spectrum L = light.radiance_toward(leaving);
     if (!(max_component(L) > 0.f)) return Spectrum(0.f);
-    if (estimators.empty() || s.since == Since::Other || s.since == Since::Reflected) return L;
+    const std::optional<SpecularChain> made = chain.chain();
+    if (estimators.empty() || !made) return L;
     PathToLight path;
     path.vertex = s.scattered_at;
     path.direction = s.scattered_along;
     path.leaving = leaving;
-    path.chain = s.since == Since::Refracted            ? SpecularChain::Refraction
-                 : s.since == Since::ReflectedRefracted ? SpecularChain::ReflectionRefraction
-                 : s.since == Since::RefractedReflected ? SpecularChain::RefractionReflection
-                                                        : SpecularChain::None;
-    path.reflection = s.reflection_point;
-    path.exit = s.exit_point;
+    path.chain = *made;
+    path.reflection = chain.reflection();
+    path.exit = chain.exit();
     for (const auto& estimator : estimators) {
         const float pdf_light = estimator->pdf(path, s.counters);
         if (!(pdf_light > 0.f)) continue;

@@ -142,11 +142,9 @@ private:
     std::optional<BoundarySample> enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
                                         const glm::vec3& n, float u) const;
     void escape(PathState& s) const;
-    void record_specular_event(PathState& s, const glm::vec3& p, bool entering, bool reflected,
-                               bool inside_after) const;
     Spectrum met_light(PathState& s, const DistantLight& light,
                        const std::vector<std::unique_ptr<LightEstimator>>& estimators,
-                       const glm::vec3& leaving) const;
+                       const glm::vec3& leaving, const ChainTracker& chain) const;
     bool survive(PathState& s) const;
 
     const Scene& scene_;

@@ -22,14 +22,16 @@
 //                   (render/specular_manifold.h)
 //   guided          through a smooth dielectric, the directional light's
 //                   disc only: directions from the light guide
-//                   (render/light_guide.h), along any of its three chains,
-//                   mixed with the cone or the walk where they cover one
+//                   (render/light_guide.h), along any of its four chains
+//                   (render/specular_chain.h), mixed with the cone or the
+//                   walk where they cover one
 // Without one, a light is found only by paths that meet it.
 
 #include "jade/core/random.h"
 #include "jade/core/sampling.h"
 #include "jade/core/spectrum.h"
 #include "jade/render/light.h"
+#include "jade/render/specular_chain.h"
 #include "jade/render/tracking.h"
 
 #include <glm/vec3.hpp>
@@ -60,13 +62,6 @@ struct LightSample {
     Spectrum transmittance{0.f};
     bool is_delta() const { return !(pdf > 0.f); }
 };
-
-// The specular events a path meets between a medium vertex and the light:
-// none (index-matched crossings only), one refraction out, one internal
-// reflection and then the refraction out, or the refraction out and then a
-// reflection off the outside of another part of the object (a vase's
-// handle mirrored in its neck). The estimators' path classes.
-enum class SpecularChain { None, Refraction, ReflectionRefraction, RefractionReflection };
 
 // A phase-sampled path from medium vertex `vertex` along `direction` that
 // left the scene along `leaving` with nothing on the way but null
