@@ -22,7 +22,7 @@
 //                   (render/specular_manifold.h)
 //   guided          through a smooth dielectric, the directional light's
 //                   disc only: directions from the light guide
-//                   (render/light_guide.h), along any of its four chains
+//                   (render/light_guide.h), along any of its three chains
 //                   (render/specular_chain.h), mixed with the cone or the
 //                   walk where they cover one
 // Without one, a light is found only by paths that meet it.
