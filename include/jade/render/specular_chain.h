@@ -26,6 +26,8 @@ public:
     ChainTracker() = default;
     // A scattering: nothing since (null collisions only).
     void scattered() { state_ = State::Straight; }
+    // The last scattering is no longer known (a walk through a sphere made
+    // collisions): what follows is no estimator's until the next one.
     void lose() { state_ = State::Other; }
     // A reflection or refraction at surface point p. `entering`: the ray
     // arrived from outside; `inside_after`: it continues inside.
