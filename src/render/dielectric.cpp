@@ -67,6 +67,13 @@ glm::vec3 interface_normal(const SurfaceHit& hit, const glm::vec3& d, bool enter
                                                                : hit.geometric_normal;
 }
 
+bool on_sampled_side(const glm::vec3& d_in, const glm::vec3& d_out, const glm::vec3& ng, bool reflected) {
+    const bool from_outside = glm::dot(d_in, ng) < 0.f;
+    const float side = glm::dot(d_out, ng);  // > 0: outward; 0 (along the triangle): neither side
+    const bool outward = from_outside == reflected;
+    return outward ? side > 0.f : side < 0.f;
+}
+
 BoundarySample sample_boundary(const BoundaryParams& p, const glm::vec3& d, const glm::vec3& normal,
                                bool entering, float u) {
     const BoundaryTransmission t = boundary_transmission(p, d, normal, entering);

@@ -455,7 +455,9 @@ void Integrator::estimate_light(PathState& s, const LightEstimator& estimator,
 }
 
 // The boundary at `hit`: crossed as if absent when index-matched, otherwise
-// reflected or refracted. False when the path ends there.
+// reflected or refracted. False when the path ends there: by roulette, at
+// the depth cap, or where the shading normal sent it to the wrong side of
+// the triangle (on_sampled_side).
 bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
     if (s.straight) s.out.hit_object = true;
     const glm::vec3 p = s.o + hit.t * s.d;
@@ -479,6 +481,7 @@ bool Integrator::cross_surface(PathState& s, const SurfaceHit& hit) const {
             entering ? enter(s, p, ng, n, u) : sample_boundary(scene_.interface, s.d, n, false, u);
         if (!sampled) return false;
         const BoundarySample& bs = *sampled;
+        if (!on_sampled_side(s.d, bs.direction, ng, bs.reflected)) return false;  // a leak
         s.chain.record(p, entering, bs.reflected, glm::dot(bs.direction, ng) < 0.f);
         s.d = bs.direction;
         s.straight = false;
@@ -512,7 +515,7 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
                                                 const glm::vec3& n, float u) const {
     const BoundaryTransmission t = boundary_transmission(scene_.interface, s.d, n, true);
     const glm::vec3 mirror = reflect(s.d, glm::dot(s.d, n) < 0.f ? n : -n);
-    const bool glint = t.weight < 1.f && glm::dot(mirror, ng) > 0.f &&
+    const bool glint = t.weight < 1.f && on_sampled_side(s.d, mirror, ng, true) &&
                        (scene_.boundary->convex() ||
                         !scene_.boundary->intersect(scene_.offset(p, ng, mirror), mirror, 0.f, kInfinity));
     if (!glint) return sample_boundary(scene_.interface, s.d, n, true, u);

@@ -3,6 +3,7 @@
 #include "jade/core/random.h"
 #include "jade/core/sampling.h"
 #include "jade/core/spectrum.h"
+#include "jade/render/dielectric.h"
 #include "jade/render/scene.h"
 
 #include <glm/common.hpp>
@@ -111,8 +112,9 @@ void trace_inside(const Scene& scene, const glm::vec3& y, const glm::vec3& ng, g
         const glm::vec3 p = spawn.origin + hit->t * d;
         const glm::vec3 n = interface_normal(*hit, d, false);
         weight *= 1.f - boundary_transmission(scene.interface, d, n, false).weight;
-        d = reflect(d, n);
-        if (!(weight > 0.f) || !(glm::dot(d, n_g) < 0.f)) return;
+        const glm::vec3 reflected = reflect(d, n);
+        if (!(weight > 0.f) || !on_sampled_side(d, reflected, n_g, true)) return;
+        d = reflected;
         spawn = scene.spawn_inside(p, n_g, d);
     }
 }
@@ -151,7 +153,8 @@ void trace_photon(const Scene& scene, const glm::vec3& c, float r, SampleStream&
     const BoundaryTransmission in = boundary_transmission(scene.interface, d, n, true);
     if (in.weight < 1.f) trace_mirrored(scene, y, ng, reflect(d, glm::dot(d, n) < 0.f ? n : -n), 1.f - in.weight,
                                         deposits);
-    if (in.weight > 0.f) trace_inside(scene, y, ng, in.direction, in.weight, deposits);
+    if (in.weight > 0.f && on_sampled_side(d, in.direction, ng, false))
+        trace_inside(scene, y, ng, in.direction, in.weight, deposits);
 }
 
 }  // namespace

@@ -66,6 +66,7 @@ std::optional<RefractedExit> exit_at(const Scene& scene, const glm::vec3& w, con
     if (!(glm::dot(w, ng) > 0.f) || !(glm::dot(w, ns) > 0.f)) return std::nullopt;
     const BoundaryTransmission out = boundary_transmission(scene.interface, w, ns, false);
     if (!(out.weight > 0.f)) return std::nullopt;  // total internal reflection, or a mirror
+    if (!on_sampled_side(w, out.direction, ng, false)) return std::nullopt;  // a leak back in
     const auto refraction = outward_refraction(scene, w, ns);
     if (!refraction) return std::nullopt;
     RefractedExit e;
@@ -252,7 +253,7 @@ bool trace_chain(const Scene& scene, const glm::vec3& p, const glm::vec3& w, Cha
     if (!first || !(glm::dot(w, first->geometric_normal) > 0.f) || !(glm::dot(w, first->shading_normal) > 0.f))
         return false;
     const glm::vec3 d = reflect(w, first->shading_normal);
-    if (!(glm::dot(d, first->geometric_normal) < 0.f)) return false;  // the reflection would leave
+    if (!on_sampled_side(w, d, first->geometric_normal, true)) return false;  // the reflection would leave
     const glm::vec3 y1 = p + first->t * w;
     const Scene::Spawn spawn = scene.spawn_inside(y1, first->geometric_normal, d);
     std::optional<SurfaceHit> second;
@@ -320,7 +321,8 @@ std::optional<ChainPoint> chain_point(const Scene& scene, const glm::vec3& p, co
 std::optional<ReflectedExit> chain_exit(const Scene& scene, const ChainPoint& cp) {
     const glm::vec3& ns2 = cp.second.shading_normal;
     const BoundaryTransmission out = boundary_transmission(scene.interface, cp.d, ns2, false);
-    if (!(out.weight > 0.f)) return std::nullopt;
+    if (!(out.weight > 0.f) || !on_sampled_side(cp.d, out.direction, cp.second.geometric_normal, false))
+        return std::nullopt;
     const float reflectance = 1.f - boundary_transmission(scene.interface, cp.w, cp.first.shading_normal, false).weight;
     const auto refraction = outward_refraction(scene, cp.d, ns2);
     if (!refraction || !(reflectance > 0.f)) return std::nullopt;

@@ -50,6 +50,47 @@ TEST_CASE("refraction obeys Snell's law and reflection mirrors", "[dielectric]")
     CHECK_FALSE(refract(incoming(0.8), nrm, 1.f / 1.6f, t));  // total internal reflection
 }
 
+TEST_CASE("strict normals: a shading normal that sends a grazing ray through its triangle is caught", "[dielectric]") {
+    // The triangle z = 0 (geometric normal +z, outward); a ray inside the
+    // object (z < 0) arrives at 80° from the normal.
+    const glm::vec3 ng(0, 0, 1);
+    const double theta = 80.0 * kPi / 180.0;
+    const glm::vec3 d(float(std::sin(theta)), 0.f, float(std::cos(theta)));  // going up, toward +x
+    // About the triangle's own normal the reflection stays inside.
+    CHECK(on_sampled_side(d, reflect(d, ng), ng, true));
+    // A shading normal tilted 8° away from the ray (an interpolated normal
+    // on a coarse curved mesh) still faces the ray's side (88° from it), so
+    // the interface bends by it; the ray's mirror about it lies at
+    // 180° + 2·(−8°) − 80° = 84° from the triangle's normal: 6° above the
+    // triangle, outside the object.
+    const auto tilted = [&](double degrees) {
+        const double b = degrees * kPi / 180.0;
+        return glm::vec3(float(std::sin(b)), 0.f, float(std::cos(b)));
+    };
+    REQUIRE(glm::dot(d, tilted(-8.0)) > 0.f);
+    const glm::vec3 leak = reflect(d, tilted(-8.0));
+    CHECK(leak.z == Approx(std::cos(84.0 * kPi / 180.0)).margin(1e-5));
+    CHECK_FALSE(on_sampled_side(d, leak, ng, true));
+    // Tilted 15° toward it, the mirror lies at 130°: inside.
+    CHECK(reflect(d, tilted(15.0)).z == Approx(std::cos(130.0 * kPi / 180.0)).margin(1e-5));
+    CHECK(on_sampled_side(d, reflect(d, tilted(15.0)), ng, true));
+    // A refraction out must leave; one bent back below the triangle does not.
+    const glm::vec3 steep(0.2f, 0.f, 0.979796f);
+    glm::vec3 out;
+    REQUIRE(refract(steep, -ng, 1.f / 1.6f, out));
+    CHECK(on_sampled_side(steep, out, ng, false));
+    CHECK_FALSE(on_sampled_side(steep, glm::vec3(out.x, out.y, -out.z), ng, false));
+    // From outside: a reflection goes back up, a refraction goes in.
+    const glm::vec3 down = incoming(0.5);
+    CHECK(on_sampled_side(down, reflect(down, ng), ng, true));
+    CHECK_FALSE(on_sampled_side(down, reflect(down, ng), ng, false));
+    REQUIRE(refract(down, ng, 1.6f, out));
+    CHECK(on_sampled_side(down, out, ng, false));
+    // Along the triangle is neither side.
+    CHECK_FALSE(on_sampled_side(d, glm::vec3(1, 0, 0), ng, true));
+    CHECK_FALSE(on_sampled_side(d, glm::vec3(1, 0, 0), ng, false));
+}
+
 TEST_CASE("each mode reflects with its probability (chi-square over angles)", "[dielectric]") {
     const int per_angle = 40000;
     std::vector<double> angles;

@@ -68,6 +68,17 @@ BoundaryTransmission boundary_transmission(const BoundaryParams& params, const g
 // from the ray's side of the triangle, the triangle's own normal is used.
 glm::vec3 interface_normal(const SurfaceHit& hit, const glm::vec3& d, bool entering);
 
+// Strict normals: whether propagation direction d_out lies on the side of
+// the triangle (geometric normal ng) that the event put it on, arriving
+// along d_in: a reflection goes back to d_in's side, a refraction crosses.
+// A smooth shading normal can send a grazing ray the other way (a
+// reflection out through the surface, a refraction back in); the interface
+// makes no such path, so the integrator ends it, as the light estimators
+// and the guide never follow one (docs/design.md, "Boundary"). Let through,
+// those leaks reached the light by chains no estimator makes and were the
+// demo's worst fireflies.
+bool on_sampled_side(const glm::vec3& d_in, const glm::vec3& d_out, const glm::vec3& ng, bool reflected);
+
 // Samples the interface for propagation direction d arriving at a surface
 // with unit normal n (any orientation); `entering` says whether d comes from
 // outside (index 1) into the object (index ior). u is uniform in [0, 1).

@@ -1,6 +1,7 @@
 #include "jade/render/light_estimators/guided.h"
 
 #include "jade/core/error.h"
+#include "jade/render/dielectric.h"
 #include "jade/render/light_estimators/refracted_cone.h"
 #include "jade/render/specular_manifold.h"
 
@@ -78,7 +79,7 @@ LightSample GuidedEstimator::reflected_outside(const glm::vec3& p, const glm::ve
     const glm::vec3& n1 = exit->geometric_normal;
     // Leaving a convex object, nothing meets it again (the integrator
     // does not ask either: a grazing ray could meet the next facet).
-    if (!(out.weight > 0.f) || !(glm::dot(out.direction, n1) > 0.f) || scene_.boundary->convex()) return {};
+    if (!(out.weight > 0.f) || !on_sampled_side(w, out.direction, n1, false) || scene_.boundary->convex()) return {};
     const glm::vec3 y1 = p + exit->t * w, o = scene_.offset(y1, n1, out.direction);
     const auto other = scene_.boundary->intersect(o, out.direction, 0.f, kInfinity);
     if (!other || !(glm::dot(out.direction, other->geometric_normal) < 0.f)) return {};
@@ -88,7 +89,7 @@ LightSample GuidedEstimator::reflected_outside(const glm::vec3& p, const glm::ve
     const float reflectance =
         1.f - boundary_transmission(scene_.interface, out.direction, n, true).weight;
     const glm::vec3 mirror = reflect(out.direction, glm::dot(out.direction, n) < 0.f ? n : -n);
-    if (!(reflectance > 0.f) || !(glm::dot(mirror, n2) > 0.f)) return {};
+    if (!(reflectance > 0.f) || !on_sampled_side(out.direction, mirror, n2, true)) return {};
     const Spectrum le = scene_.light.radiance_toward(mirror);
     if (!(max_component(le) > 0.f) || blocked(y2, n2, mirror)) return {};
     path = PathToLight{p, w, mirror, SpecularChain::RefractionReflection, y2, y1};

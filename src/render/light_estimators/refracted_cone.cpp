@@ -55,12 +55,11 @@ LightSample light_through_refraction(const Scene& scene, const glm::vec3& p, con
     if (!hit || glm::dot(w, hit->geometric_normal) <= 0.f) return {};
     const BoundaryTransmission out =
         boundary_transmission(scene.interface, w, interface_normal(*hit, w, false), false);
-    if (!(out.weight > 0.f)) return {};
+    if (!(out.weight > 0.f) || !on_sampled_side(w, out.direction, hit->geometric_normal, false)) return {};
     const Spectrum le = scene.light.radiance_toward(out.direction);
     if (!(max_component(le) > 0.f)) return {};
     const glm::vec3 y = p + hit->t * w;
-    const bool outward = glm::dot(out.direction, hit->geometric_normal) > 0.f;
-    if (!(outward && scene.boundary->convex()) &&
+    if (!scene.boundary->convex() &&
         scene.boundary->intersect(scene.offset(y, hit->geometric_normal, out.direction),
                                   out.direction, 0.f, kInfinity))
         return {};  // the object itself is in the way
