@@ -74,28 +74,45 @@ std::optional<SurfaceHit> MeshAccel::intersect(const glm::vec3& o, const glm::ve
     return surface(*hit);
 }
 
+namespace {
+// One ray for Embree's single-ray queries.
+RTCRay embree_ray(const glm::vec3& o, const glm::vec3& d, float tmin, float tmax) {
+    RTCRay ray;
+    ray.org_x = o.x;
+    ray.org_y = o.y;
+    ray.org_z = o.z;
+    ray.dir_x = d.x;
+    ray.dir_y = d.y;
+    ray.dir_z = d.z;
+    ray.tnear = tmin;
+    ray.tfar = tmax;
+    ray.time = 0.f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    return ray;
+}
+}  // namespace
+
 std::optional<RayHit> MeshAccel::intersect_ray(const glm::vec3& o, const glm::vec3& d, float tmin,
                                                float tmax) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
-    rh.ray.org_x = o.x;
-    rh.ray.org_y = o.y;
-    rh.ray.org_z = o.z;
-    rh.ray.dir_x = d.x;
-    rh.ray.dir_y = d.y;
-    rh.ray.dir_z = d.z;
-    rh.ray.tnear = tmin;
-    rh.ray.tfar = tmax;
-    rh.ray.time = 0.f;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
+    rh.ray = embree_ray(o, d, tmin, tmax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(embree_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     return RayHit{rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
+}
+
+bool MeshAccel::occluded(const glm::vec3& o, const glm::vec3& d, float tmin, float tmax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray = embree_ray(o, d, tmin, tmax);
+    rtcOccluded1(embree_->scene, &context, &ray);
+    return ray.tfar < 0.f;  // Embree sets tfar to −∞ on a hit
 }
 
 void MeshAccel::intersect_packet(const glm::vec3& origin, const glm::vec3* directions, int n,

@@ -515,9 +515,7 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
                                                 const glm::vec3& n, float u) const {
     const BoundaryTransmission t = boundary_transmission(scene_.interface, s.d, n, true);
     const glm::vec3 mirror = reflect(s.d, glm::dot(s.d, n) < 0.f ? n : -n);
-    const bool glint = t.weight < 1.f && on_sampled_side(s.d, mirror, ng, true) &&
-                       (scene_.boundary->convex() ||
-                        !scene_.boundary->intersect(scene_.offset(p, ng, mirror), mirror, 0.f, kInfinity));
+    const bool glint = t.weight < 1.f && on_sampled_side(s.d, mirror, ng, true) && !scene_.blocked(p, ng, mirror);
     if (!glint) return sample_boundary(scene_.interface, s.d, n, true, u);
     ++s.counters.shadow_rays;
     // After one refraction out since the last scattering, the light's part

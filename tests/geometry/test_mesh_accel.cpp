@@ -56,6 +56,31 @@ TEST_CASE("rays hit the box at the analytic distance with outward normals", "[me
     CHECK_FALSE(accel.intersect({0, 0, 5}, {0, 0, -1}, 0.f, 3.f));  // beyond tmax
 }
 
+TEST_CASE("the occlusion query agrees with the analytic box and with the closest hit", "[mesh_accel]") {
+    const TriangleMesh box = unit_box();
+    const MeshAccel accel(box, true);
+    // Analytic: the face z = 1 lies 4 along this ray.
+    CHECK(accel.occluded({0.2f, -0.3f, 5.f}, {0, 0, -1}, 0.f, 1e30f));
+    CHECK_FALSE(accel.occluded({0.2f, -0.3f, 5.f}, {0, 0, -1}, 0.f, 3.9f));  // stops short
+    CHECK_FALSE(accel.occluded({0.2f, -0.3f, 5.f}, {0, 0, 1}, 0.f, 1e30f));  // looks away
+    CHECK_FALSE(accel.occluded({5, 5, 5}, {0, 0, 1}, 0.f, 1e30f));
+    CHECK(accel.occluded({0, 0, 0}, {1, 0, 0}, 0.f, 1e30f));  // from inside
+    // Random rays from inside and outside, with random ends: the same
+    // answer as the closest hit's existence.
+    SampleStream rng(7, 0, 0);
+    int hits = 0;
+    for (int i = 0; i < 4000; ++i) {
+        const glm::vec3 o(4.f * rng.uniform() - 2.f, 4.f * rng.uniform() - 2.f, 4.f * rng.uniform() - 2.f);
+        const glm::vec3 d = glm::normalize(glm::vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f));
+        const float tmax = 4.f * rng.uniform();
+        const bool hit = bool(accel.intersect_ray(o, d, 0.f, tmax));
+        hits += hit;
+        CHECK(accel.occluded(o, d, 0.f, tmax) == hit);
+    }
+    CHECK(hits > 400);  // both answers come up often (873 hits with this seed)
+    CHECK(hits < 3600);
+}
+
 TEST_CASE("a packet of rays hits the box at the analytic distances and misses where it must",
           "[mesh_accel]") {
     const TriangleMesh box = unit_box();

@@ -57,6 +57,10 @@ public:
     std::optional<RayHit> intersect_ray(const glm::vec3& origin, const glm::vec3& direction,
                                         float tmin, float tmax) const;
     SurfaceHit surface(const RayHit& hit) const;
+    // Whether anything lies on the ray with t in (tmin, tmax): Embree's
+    // occlusion query, which stops at the first triangle it finds and
+    // fills in nothing (shadow tests).
+    bool occluded(const glm::vec3& origin, const glm::vec3& direction, float tmin, float tmax) const;
     // The closest hits, t in (0, ∞), of n ≤ kPacket rays from one origin,
     // traced as one Embree packet (rtcIntersect8, flagged coherent): the
     // camera rays of one pixel run nearly parallel, and a packet of them

@@ -12,6 +12,8 @@
 
 #include <glm/geometric.hpp>
 
+#include <limits>
+
 namespace jade {
 
 struct Scene {
@@ -31,6 +33,14 @@ struct Scene {
     // `direction` starts: pushed off the surface to the side it goes.
     glm::vec3 offset(const glm::vec3& p, const glm::vec3& ng, const glm::vec3& direction) const {
         return p + (glm::dot(direction, ng) > 0.f ? ray_epsilon : -ray_epsilon) * ng;
+    }
+    // Whether the object is in the way of a ray leaving surface point y
+    // (geometric normal ng) along exterior direction d: the shadow test of
+    // every light path that leaves the object. Nothing meets a convex
+    // object again once it has left it.
+    bool blocked(const glm::vec3& y, const glm::vec3& ng, const glm::vec3& d) const {
+        if (glm::dot(d, ng) > 0.f && boundary->convex()) return false;
+        return boundary->occluded(offset(y, ng, d), d, 0.f, std::numeric_limits<float>::infinity());
     }
     // A ray leaving surface point p into the object (against outward ng)
     // along unit `direction`: the offset point lies ray_epsilon below the

@@ -56,7 +56,7 @@ LightSample GuidedEstimator::through_reflection(const glm::vec3& p, const glm::v
     const auto e = reflected_exit(scene_, p, w);
     if (!e || !(e->weight > 0.f)) return {};
     const Spectrum le = scene_.light.radiance_toward(e->exterior);
-    if (!(max_component(le) > 0.f) || blocked(e->exit_point, e->exit.geometric_normal, e->exterior)) return {};
+    if (!(max_component(le) > 0.f) || scene_.blocked(e->exit_point, e->exit.geometric_normal, e->exterior)) return {};
     path = PathToLight{p, w, e->exterior, SpecularChain::ReflectionRefraction, e->reflection_point, e->exit_point};
     LightSample ls;
     ls.radiance = e->weight * le;
@@ -91,19 +91,12 @@ LightSample GuidedEstimator::reflected_outside(const glm::vec3& p, const glm::ve
     const glm::vec3 mirror = reflect(out.direction, glm::dot(out.direction, n) < 0.f ? n : -n);
     if (!(reflectance > 0.f) || !on_sampled_side(out.direction, mirror, n2, true)) return {};
     const Spectrum le = scene_.light.radiance_toward(mirror);
-    if (!(max_component(le) > 0.f) || blocked(y2, n2, mirror)) return {};
+    if (!(max_component(le) > 0.f) || scene_.blocked(y2, n2, mirror)) return {};
     path = PathToLight{p, w, mirror, SpecularChain::RefractionReflection, y2, y1};
     LightSample ls;
     ls.radiance = out.weight * reflectance * le;
     ls.transmittance = ratio_tracking(*scene_.medium, p, w, exit->t, rng, counters);
     return ls;
-}
-
-// Whether the object is in the way of a ray leaving surface point y
-// (geometric normal ng) along exterior direction d.
-bool GuidedEstimator::blocked(const glm::vec3& y, const glm::vec3& ng, const glm::vec3& d) const {
-    if (glm::dot(d, ng) > 0.f && scene_.boundary->convex()) return false;
-    return bool(scene_.boundary->intersect(scene_.offset(y, ng, d), d, 0.f, kInfinity));
 }
 
 std::optional<LightSample> GuidedEstimator::sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,

@@ -5,12 +5,9 @@
 
 #include <glm/geometric.hpp>
 
-#include <limits>
-
 namespace jade {
 
 namespace {
-constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // Two surface points closer than this fraction of the chain's length are
 // one solution (the solver stops within kManifoldTolerance of the target).
 constexpr float kSameExit = 1e-3f;
@@ -55,11 +52,7 @@ std::optional<LightSample> ManifoldEstimator::sample(const glm::vec3& p, float u
     ++counters.shadow_rays;
     LightSample ls;
     ls.direction = found->direction;
-    const bool outward = glm::dot(found->exterior, found->exit_normal) > 0.f;
-    if (!(outward && scene_.boundary->convex()) &&
-        scene_.boundary->intersect(scene_.offset(found->exit, found->exit_normal, found->exterior),
-                                   found->exterior, 0.f, kInfinity))
-        return ls;  // the object itself is in the way
+    if (scene_.blocked(found->exit, found->exit_normal, found->exterior)) return ls;  // the object itself is in the way
     if (light_.is_delta()) {  // the irradiance, spread by the chain's Jacobian
         ls.radiance = ds.radiance * (found->weight / found->jacobian);
     } else {

@@ -59,10 +59,7 @@ LightSample light_through_refraction(const Scene& scene, const glm::vec3& p, con
     const Spectrum le = scene.light.radiance_toward(out.direction);
     if (!(max_component(le) > 0.f)) return {};
     const glm::vec3 y = p + hit->t * w;
-    if (!scene.boundary->convex() &&
-        scene.boundary->intersect(scene.offset(y, hit->geometric_normal, out.direction),
-                                  out.direction, 0.f, kInfinity))
-        return {};  // the object itself is in the way
+    if (scene.blocked(y, hit->geometric_normal, out.direction)) return {};  // the object itself is in the way
     if (path) *path = PathToLight{p, w, out.direction, SpecularChain::Refraction, glm::vec3(0.f), y};
     LightSample ls;
     ls.radiance = out.weight * le;

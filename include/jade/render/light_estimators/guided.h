@@ -44,7 +44,6 @@ private:
                                    PathCounters& counters, PathToLight& path) const;
     LightSample reflected_outside(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
                                   PathCounters& counters, PathToLight& path) const;
-    bool blocked(const glm::vec3& y, const glm::vec3& ng, const glm::vec3& d) const;
     struct Mixture {
         float sampled;  // the probability that a vertex gets a sample
         float guided;   // the share of those drawn from the guide
