@@ -195,7 +195,7 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
                       last.estimated_error);
     }
     const RgbImage8 cmp = compare_image({photo, res.final_render.film, exposure, slice, photo_histogram,
-                                         final_stats.histogram, render_caption,
+                                         final_stats.histogram, res.final_look, render_caption,
                                          "slice z = " + std::to_string(volume.resolution / 2)});
     write_image_u8(out("compare.png"), cmp.width, cmp.height, 3, cmp.pixels);
     // The Blender import (docs/blender.md), run as it is: it reads the

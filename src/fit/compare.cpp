@@ -40,11 +40,10 @@ int draw_picture(RgbImage8& img, int x0, int height, int w, int h, PixelAt pixel
 
 // The figures of one channel in two lines: "R  A photo|render" and
 // "S photo|render  D".
-std::array<std::string, 2> channel_figures(int c, const RgbHistogram& photo, const RgbHistogram& render) {
+std::array<std::string, 2> channel_figures(int c, const Appearance& look) {
     char a[64], b[64];
-    std::snprintf(a, sizeof a, "%s  A %.1f|%.1f", kChannelName[c], photo.mean(c), render.mean(c));
-    std::snprintf(b, sizeof b, "   S %.1f|%.1f  D %.4f", photo.spread(c), render.spread(c),
-                  histogram_distance(photo, render, c));
+    std::snprintf(a, sizeof a, "%s  A %.1f|%.1f", kChannelName[c], look.a_photo[c], look.a_render[c]);
+    std::snprintf(b, sizeof b, "   S %.1f|%.1f  D %.4f", look.s_photo[c], look.s_render[c], look.d[c]);
     return {a, b};
 }
 
@@ -52,7 +51,7 @@ std::array<std::string, 2> channel_figures(int c, const RgbHistogram& photo, con
 // proportion, scaled to the larger peak but at most twice the photo's, so a
 // spike in the render (a clipped highlight) does not flatten the photo's curve.
 void draw_histogram(RgbImage8& img, int x0, int y0, int h, int c, const RgbHistogram& photo,
-                    const RgbHistogram& render) {
+                    const RgbHistogram& render, const Appearance& look) {
     const int top = y0 + 2 * kTextSize + 10, base = y0 + h - 12;
     double photo_peak = 1e-9, render_peak = 1e-9;
     for (int i = 0; i < 256; ++i) {
@@ -75,10 +74,11 @@ void draw_histogram(RgbImage8& img, int x0, int y0, int h, int c, const RgbHisto
         prev_render = yr;
     }
     // A(κ): a tick below the axis, solid for the photo, light for the render.
-    const int ap = int(std::lround(photo.mean(c))), ar = int(std::lround(render.mean(c)));
+    const auto tick = [](double a) { return int(std::lround(std::clamp(a, 0.0, 255.0))); };
+    const int ap = tick(look.a_photo[c]), ar = tick(look.a_render[c]);
     for (int y = base + 3; y < base + 7; ++y) put(img, x0 + ap, y, solid);
     for (int y = base + 7; y < base + 11; ++y) put(img, x0 + ar, y, light);
-    const auto lines = channel_figures(c, photo, render);
+    const auto lines = channel_figures(c, look);
     draw_text(img, x0 + 2, y0 + kTextSize + 2, lines[0], kTextSize, solid);
     draw_text(img, x0 + 2, y0 + 2 * kTextSize + 6, lines[1], kTextSize, solid);
 }
@@ -123,7 +123,7 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
 
     for (int c = 0; c < 3; ++c)
         draw_histogram(img, c * (256 + kGap), panel + kCaption, plot_height, c, p.photo_histogram,
-                       p.render_histogram);
+                       p.render_histogram, p.look);
     const int lx = 3 * (256 + kGap), ly = panel + kCaption + kTextSize + 2;
     draw_text(img, lx, ly, "solid: photo", kTextSize, kText);
     draw_text(img, lx, ly + kTextSize + 4, "dotted: render", kTextSize, kText);

@@ -56,7 +56,15 @@ TEST_CASE("compare image: photo, render and slice side by side, figures on the p
     for (std::size_t i = 0; i < slice.pixels.size(); i += 3) slice.pixels[i + 2] = 255;  // blue
     const RgbHistogram ph = RgbHistogram::of(photo.levels);
     const RgbHistogram rh = RgbHistogram::of(std::vector<Rgb8>(10, Rgb8{255, 255, 255}));
-    const RgbImage8 img = compare_image({photo, film, 1.f, slice, ph, rh, "render", "slice"}, 100);
+    Appearance look;  // the figures written on the plots
+    for (int c = 0; c < 3; ++c) {
+        look.a_photo[c] = ph.mean(c);
+        look.a_render[c] = 254.6;
+        look.s_photo[c] = 0.0;
+        look.s_render[c] = 0.4;
+        look.d[c] = histogram_distance(ph, rh, c);
+    }
+    const RgbImage8 img = compare_image({photo, film, 1.f, slice, ph, rh, look, "render", "slice"}, 100);
 
     REQUIRE(img.height > 100);
     CHECK(pixel(img, 50, 50) == Rgb8{200, 100, 50});           // photo, 100 px wide

@@ -5,6 +5,7 @@
 // the fit matches the photo's look and not only its mean.
 
 #include "jade/core/image.h"
+#include "jade/fit/appearance.h"
 #include "jade/render/film.h"
 #include "jade/volume/histogram.h"
 #include "jade/volume/photo.h"
@@ -20,6 +21,10 @@ struct ComparePanels {
     const RgbImage8& slice;         // the material as the renderer sees it (contrast applied)
     const RgbHistogram& photo_histogram;
     const RgbHistogram& render_histogram;
+    // The figures written on the plots and ticked below them: the ones
+    // report.json holds (the render's A and S with the noise's share taken
+    // out, docs/design.md, "Appearance"), not the raw histograms' own.
+    const Appearance& look;
     std::string render_caption;     // e.g. "render 256 spp, error 0.23"
     std::string slice_caption;      // e.g. "volume slice z = 128"
 };
@@ -27,7 +32,8 @@ struct ComparePanels {
 // Three pictures `panel` pixels high (photo with its background dimmed, the
 // render display-encoded, the slice), each captioned below, then per channel
 // a histogram plot: the photo's as a solid line, the render's as a dotted
-// one, A ticked below the axis, and "A photo|render  S photo|render  D" above.
+// one, A ticked below the axis, and "A photo|render  S photo|render  D" above
+// (from `look`).
 RgbImage8 compare_image(const ComparePanels& panels, int panel = 256);
 
 }  // namespace jade
