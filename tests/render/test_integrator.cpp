@@ -990,3 +990,40 @@ TEST_CASE("light a wall mirrors into a slab: the guided estimate agrees with dis
     check_agreement(hits.film, guided.film, 16);
     CHECK(guided.film.mean(16, 16).x > 0.01f);
 }
+
+TEST_CASE("white furnace where the camera sees the object in the object: both branches of a blocked mirror keep the energy",
+          "[integrator][render]") {
+    // A wall beside a slab, seen from the slab's side and above: the mirror
+    // image of most camera rays meets the other body, so the camera ray
+    // follows its reflection as a path of its own beside the refraction
+    // (Integrator::split_reflection), each with its weight. A non-absorbing
+    // medium under a unit sky still returns exactly 1 in every pixel: a
+    // branch weighed twice, or dropped, moves it by many standard deviations.
+    const TriangleMesh mesh = jade_test::merged_mesh(jade_test::box_mesh({-1, -3, 0}, {0, 3, 4}),
+                                                     jade_test::box_mesh({0.2f, -3, 0}, {4, 3, 0.3f}));
+    const MeshAccel accel(mesh, true);
+    const HomogeneousMedium medium(Spectrum(3.f, 2.f, 1.5f), Spectrum(0.f));
+    const PinholeCamera cam = camera_at({1.6f, 0.f, 2.4f}, {0.1f, 0.f, 0.6f}, 40, 32);
+    for (BoundaryMode mode : {BoundaryMode::Split, BoundaryMode::Fresnel}) {
+        const Scene s = basic_scene(accel, &medium, mode, Spectrum(1.f));
+        // The scene must make the case: count the pixels whose centre ray's
+        // mirror image meets the object.
+        int blocked = 0;
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                const glm::vec3 d = cam.direction((x + 0.5f) / 32.f, (y + 0.5f) / 32.f);
+                const auto hit = accel.intersect(cam.origin(), d, 0.f, 1e30f);
+                if (!hit) continue;
+                const glm::vec3 p = cam.origin() + hit->t * d;
+                if (s.blocked(p, hit->geometric_normal, reflect(d, hit->geometric_normal))) ++blocked;
+            }
+        CHECK(blocked > 32 * 32 / 4);
+        const RenderResult r = render_spp(s, cam, 64);
+        const auto z = jade_test::block_z_scores(r.film, constant_image(32, Spectrum(1.f)), 8);
+        INFO(to_string(mode) << ", " << blocked << " pixels with a blocked mirror: " << z);
+        CHECK(z.max_abs_z < 4.5);
+        for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
+        CHECK(r.counters.capped_paths == 0);
+        CHECK(all_finite(r.film));
+    }
+}

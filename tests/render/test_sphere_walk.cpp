@@ -261,7 +261,12 @@ TEST_CASE("the furnace holds in stiff media at the default --max-depth behind ev
         Scene s = index_matched(accel, medium);
         s.interface.mode = k.mode;
         RenderSettings rs;
-        rs.spp = 16;
+        // 32: the z-scores take each pixel's variance from its own samples,
+        // and with the glint's refraction weighed rather than drawn, a
+        // silhouette pixel's samples are nearly equal but for a rare path:
+        // 16 of them underestimated the spread (one block at z 4.9 with
+        // seed 1, no block above 3.3 at 32 spp with seeds 1 to 3, nor at 256).
+        rs.spp = 32;
         const RenderResult r = render(s, camera(16, 40.f), rs);
         jade_test::Expected one;
         one.width = one.height = 16;

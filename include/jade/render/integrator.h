@@ -131,6 +131,7 @@ private:
     struct PathState;
     enum class Flight { Reached, Scattered, Ended };
     enum class Walk { NotTaken, Left, Ended };
+    void follow(PathState& s, const std::optional<SurfaceHit>* first_hit) const;
     Walk walk_sphere(PathState& s) const;
     double sphere_room(PathState& s, const Spectrum& sigma_t) const;
     Flight track(PathState& s, float t_max, MediumProperties& at) const;
@@ -141,6 +142,8 @@ private:
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
     std::optional<BoundarySample> enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
                                         const glm::vec3& n, float u) const;
+    void split_reflection(PathState& s, const glm::vec3& p, const glm::vec3& ng, const glm::vec3& mirror,
+                          float reflectance) const;
     void escape(PathState& s) const;
     Spectrum met_light(PathState& s, const DistantLight& light,
                        const std::vector<std::unique_ptr<LightEstimator>>& estimators,
