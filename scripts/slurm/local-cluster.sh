@@ -64,6 +64,10 @@ node=$(hostname -s)
 cpus=$(nproc)
 mem=$(awk '/MemTotal/ {print int($2 / 1024 * 0.8)}' /proc/meminfo)
 
+# cred_expire is also how long Slurm holds a requeued job before it runs
+# again (120 s by default); on one node with no prolog, 10 s is ample for a
+# step's credential and lets a failed task come back without a two-minute
+# wait.
 cat >"$dir/slurm.conf" <<CONF
 ClusterName=jade-local
 SlurmctldHost=$node(127.0.0.1)
@@ -71,7 +75,7 @@ SlurmctldPort=$ctl_port
 SlurmdPort=$node_port
 SlurmUser=root
 AuthType=auth/munge
-AuthInfo=socket=$dir/munge/munge.socket
+AuthInfo=socket=$dir/munge/munge.socket,cred_expire=10
 CredType=cred/munge
 StateSaveLocation=$dir/state
 SlurmdSpoolDir=$dir/spool

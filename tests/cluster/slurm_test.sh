@@ -66,7 +66,7 @@ cat >fits.json <<MANIFEST
 MANIFEST
 JADERENDER=$jade "$root/scripts/slurm/batch.sh" fits.json -- --cpus-per-task=1 || fail "batch.sh did not submit"
 
-# --- wait (the crashed piece waits out Slurm's requeue delay of about 2 min) ---
+# --- wait (the crashed piece waits out Slurm's requeue delay, cred_expire) ---
 for _ in $(seq 1 400); do
   [ -z "$(squeue -h)" ] && break
   sleep 1
