@@ -823,7 +823,14 @@ TEST_CASE("render --light-file: a glTF's directional light renders as the same l
     REQUIRE(run(dir, scene + "--light-dir 0,1,0 --light-irradiance 2.5 --out " + dir.file("b.exr")).code == 0);
     const ImageF32 x = read_image_f32(dir.file("a.exr")), y = read_image_f32(dir.file("b.exr"));
     REQUIRE(x.pixels.size() == y.pixels.size());
-    CHECK(std::memcmp(x.pixels.data(), y.pixels.data(), x.pixels.size() * sizeof(float)) == 0);
+    // The node's rotation gives the direction to within float rounding
+    // (0.70710678² · 2 is not exactly 1), and the light guide traced from
+    // it may differ in its last bits: equal to a millionth.
+    double worst = 0.0;
+    for (std::size_t i = 0; i < x.pixels.size(); ++i)
+        worst = std::max(worst, std::abs(double(x.pixels[i]) - double(y.pixels[i])) /
+                                    std::max(1e-3, std::abs(double(y.pixels[i]))));
+    CHECK(worst < 1e-6);
     const Result both = run(dir, scene + "--light-file " + dir.file("sun.gltf") + " --light-dir 1,0,0 --out " +
                                      dir.file("c.exr"));
     CHECK(both.code == 2);

@@ -1,7 +1,8 @@
 // The light guide against geometry (render/light_guide.h): under a flat face
 // its histograms point back along Snell's refraction, and along the beam's
 // reflection off the floor; beside a wall they point back along the beam
-// the wall mirrors into the slab; it is a normalised density; a convex
+// the wall mirrors into the slab, one cell beyond the beam's edge too; it is
+// a normalised density; a convex
 // object has no mirrored chain; a delta light has no guide; the threads do
 // not change it. The truths are Snell's and the mirror's laws, written here.
 
@@ -104,6 +105,17 @@ TEST_CASE("beside a wall the guide points back along the beam the wall mirrors i
     const int h0 = guide.histogram(p, SpecularChain::Refraction);
     REQUIRE(h0 >= 0);
     CHECK(angle_degrees(mean_direction(guide, h0), {float(std::sin(theta_i)), 0.f, float(std::cos(theta_i))}) < 4.5);
+    // The mirrored beam's edge: the wall's top (z = 4) mirrors the disc's
+    // steepest rays (35° from the vertical) to x = 3.7·tan 35° = 2.59 on the
+    // slab's top, and inside they move on by 0.3·tan θ_i < 0.1. Cells are
+    // 0.25 wide from x = −1: the cell [2.75, 3) gets none of that light, but
+    // its neighbour [2.5, 2.75) does, so its histogram is its neighbours',
+    // pointing the same way; two cells beyond, the light's own reach is
+    // no longer in the neighbourhood.
+    const int beside = guide.histogram({2.85f, 0.f, 0.15f}, SpecularChain::RefractionReflection);
+    REQUIRE(beside >= 0);
+    CHECK(angle_degrees(mean_direction(guide, beside), truth) < 4.5);
+    CHECK(guide.histogram({3.1f, 0.f, 0.15f}, SpecularChain::RefractionReflection) == -1);
 }
 
 TEST_CASE("the guide is a normalised density that the threads do not change and a delta light has none",

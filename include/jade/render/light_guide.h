@@ -24,7 +24,9 @@
 // estimate of the light's fluence there) times its weight through the
 // boundary and e^(−σ̄ s) after s inside, σ̄ the smallest channel's
 // majorant: directions whose light arrives through much medium are drawn
-// less often, as they contribute less.
+// less often, as they contribute less. A cell's histogram is mixed with its
+// 3×3×3 neighbourhood's, so bins and cells that few of the traced rays
+// reached are not left empty.
 
 #include "jade/core/bounds.h"
 #include "jade/core/sphere_bins.h"
