@@ -110,8 +110,8 @@ TEST_CASE("beside a wall the guide points back along the beam the wall mirrors i
     // slab's top, and inside they move on by 0.3·tan θ_i < 0.1. Cells are
     // 0.25 wide from x = −1: the cell [2.75, 3) gets none of that light, but
     // its neighbour [2.5, 2.75) does, so its histogram is its neighbours',
-    // pointing the same way; two cells beyond, the light's own reach is
-    // no longer in the neighbourhood.
+    // pointing the same way. The next cell, [3, 3.25), is two cells from
+    // the light's reach: none.
     const int beside = guide.histogram({2.85f, 0.f, 0.15f}, SpecularChain::RefractionReflection);
     REQUIRE(beside >= 0);
     CHECK(angle_degrees(mean_direction(guide, beside), truth) < 4.5);
