@@ -42,16 +42,19 @@ TEST_CASE("fit session: a render at a known k_s, fitted from 0, gives that k_s b
     RenderSettings settings;
     settings.spp = 64;
 
-    // The "photo": the same volume at the true k_s, with many samples so that
-    // its own noise moves A by far less than a level.
+    // The "photo": the same volume at the true k_s, with twice the fit's
+    // samples, so that its own noise moves A by far less than a level (the
+    // fitted k_s is the same bisection point as from 2048 samples).
     const std::array<double, 3> truth{0.6, 0.3, -0.05};
     const float exposure = 4.f;
     FitOptions make;
     make.width = camera.width;
     make.exposure = exposure;
     const Photo dummy = test::ramp_photo(60, 150, 30);
-    const FitSession maker(volume, scene, camera, settings, dummy, make);
-    const Photo photo = photo_of(maker.render_at(truth, {1.0, 1.0, 1.0}, 2048).film, exposure);
+    RenderSettings photo_settings;
+    photo_settings.seed = test::kPhotoSeed;
+    const FitSession maker(volume, scene, camera, photo_settings, dummy, make);
+    const Photo photo = photo_of(maker.render_at(truth, {1.0, 1.0, 1.0}, 512).film, exposure);
 
     FitOptions options = make;
     options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
@@ -68,10 +71,11 @@ TEST_CASE("fit session: a render at a known k_s, fitted from 0, gives that k_s b
 TEST_CASE("fit session: fitted at a quarter of the size, the brightness check brings A at full size to the photo's",
           "[fitter][fit-session]") {
     // The "photo" is the volume at a known k_s and contrast 3 rendered at
-    // 96²; the fit runs at 24², where a pixel averages 16 of the photo's and
-    // A is higher (sRGB is concave). The check at 96² must foresee A there
-    // and correct k_s so that a 96² render matches the photo.
-    test::FitTestScene t(test::ramp_photo(60, 150, 30), 96);
+    // 80²; the fit runs at 40², where a pixel averages 4 of the photo's and
+    // A is higher (sRGB is concave): ΔA at 80² is −1.1 to −1.4 levels. The
+    // check at 80² must foresee A there and correct k_s so that an 80²
+    // render matches the photo.
+    test::FitTestScene t(test::ramp_photo(60, 150, 30), 80);
     RenderSettings settings;
     const std::array<double, 3> truth{0.6, 0.3, 0.1}, contrast{3.0, 3.0, 3.0};
     const float exposure = 4.f;
@@ -79,10 +83,16 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
     make.width = t.camera.width;
     make.exposure = exposure;
     const Photo dummy = test::ramp_photo(60, 150, 30);
+    RenderSettings photo_settings;
+    photo_settings.seed = test::kPhotoSeed;
+    // At the full-size renders' 256 samples, so that the photo's A carries
+    // the same noise bias (through the concave sRGB curve) as theirs.
+    const Photo photo =
+        photo_of(FitSession(t.volume, t.scene, t.camera, photo_settings, dummy, make).render_at(truth, contrast, 256).film,
+                 exposure);
     const FitSession full(t.volume, t.scene, t.camera, settings, dummy, make);
-    const Photo photo = photo_of(full.render_at(truth, contrast, 512).film, exposure);
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
-    // ΔA of a 96² render at k_s, and its standard error.
+    // ΔA of an 80² render at k_s, and its standard error.
     auto delta_at_full_size = [&](const std::array<double, 3>& ks, std::array<double, 3>& sigma) {
         const DisplayStatistics st = display_statistics(full.render_at(ks, contrast, 256).film, exposure);
         std::array<double, 3> d{};
@@ -91,7 +101,7 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
     };
 
     FitOptions options = make;
-    options.width = 48;
+    options.width = 40;
     options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
     options.contrast_start = contrast;
     options.method = FitMethod::Bisect;
