@@ -54,6 +54,37 @@ long grid_cell(const glm::vec3& p, const glm::vec3& origin, float cell_size, con
     return index;
 }
 
+// Per histogram of the grid, its sums (one per bin), allocated when light
+// first reaches it: memory for the cells the light reaches, not the grid.
+class LazySums {
+public:
+    LazySums(std::size_t histograms, std::size_t bins) : blocks_(histograms), bins_(bins) {}
+    LazySums(const LazySums&) = delete;
+    LazySums& operator=(const LazySums&) = delete;
+    ~LazySums() {
+        for (auto& b : blocks_) delete[] b.load();
+    }
+
+    void add(std::size_t h, std::size_t bin, std::uint64_t q) {
+        std::atomic<std::uint64_t>* block = blocks_[h].load(std::memory_order_acquire);
+        if (!block) {
+            auto* fresh = new std::atomic<std::uint64_t>[bins_]();
+            if (blocks_[h].compare_exchange_strong(block, fresh, std::memory_order_acq_rel))
+                block = fresh;
+            else
+                delete[] fresh;  // another thread's came first: `block` now holds it
+        }
+        block[bin].fetch_add(q, std::memory_order_relaxed);
+    }
+    // Histogram h's sums, or null where no light reached it.
+    const std::atomic<std::uint64_t>* sums(std::size_t h) const { return blocks_[h].load(); }
+    std::size_t histograms() const { return blocks_.size(); }
+
+private:
+    std::vector<std::atomic<std::atomic<std::uint64_t>*>> blocks_;
+    std::size_t bins_;
+};
+
 // The grid the deposits are summed in, as the traced rays see it.
 struct Deposits {
     const SphereBins& bins;
@@ -61,7 +92,7 @@ struct Deposits {
     float cell_size;
     std::array<int, 3> dims;
     float sigma;  // σ̄
-    std::atomic<std::uint64_t>* sums;
+    LazySums& sums;
 
     // The stretch o + t·d, t ∈ [0, length), of light of weight `weight`
     // that has come `travelled` through the medium, in the histograms of
@@ -71,19 +102,34 @@ struct Deposits {
              float& travelled) const {
         const int bin = bins.index(-d);  // toward where the light comes from
         const float step = 0.5f * cell_size;
+        // Consecutive steps in one cell are summed before they are stored:
+        // one store per cell crossed, not per step.
+        long cell = -1;
+        std::uint64_t pending = 0;
+        bool lit = true;
         for (float s = 0.f; s < length; s += step) {
             const float ds = std::min(step, length - s);
             const float a = weight * std::exp(-sigma * (travelled + s + 0.5f * ds));
-            if (a < kSmallestWeight) return false;
+            if (a < kSmallestWeight) {
+                lit = false;
+                break;
+            }
             const long c = grid_cell(o + (s + 0.5f * ds) * d, origin, cell_size, dims);
-            if (c < 0) continue;
-            const auto q = std::uint64_t(double(a) * double(ds / cell_size) * kFixedUnit);
-            const std::size_t h = std::size_t(c) * LightGuide::kChains + std::size_t(chain);
-            sums[h * std::size_t(bins.count()) + std::size_t(bin)].fetch_add(
-                q, std::memory_order_relaxed);
+            if (c != cell) {
+                store(cell, chain, bin, pending);
+                cell = c;
+                pending = 0;
+            }
+            if (c >= 0) pending += std::uint64_t(double(a) * double(ds / cell_size) * kFixedUnit);
         }
+        store(cell, chain, bin, pending);
         travelled += length;
-        return weight * std::exp(-sigma * travelled) >= kSmallestWeight;
+        return lit && weight * std::exp(-sigma * travelled) >= kSmallestWeight;
+    }
+
+    // q units of light in bin `bin` of cell c's histogram of `chain`.
+    void store(long c, int chain, int bin, std::uint64_t q) const {
+        if (c >= 0 && q > 0) sums.add(std::size_t(c) * LightGuide::kChains + std::size_t(chain), std::size_t(bin), q);
     }
 };
 
@@ -150,29 +196,65 @@ void trace_mirrored(const Scene& scene, const glm::vec3& y, const glm::vec3& ng,
                      LightGuide::chain_index(SpecularChain::RefractionReflection), travelled);
 }
 
-// The deposits (in cell lengths) averaged over each cell's 3×3×3
-// neighbourhood, cells beyond the grid counting as dark; `block` values
-// per cell. Filtered one axis at a time in place, so it needs one copy of
-// the deposits, not two.
-std::vector<float> neighbourhood_means(const std::atomic<std::uint64_t>* sums, const std::array<int, 3>& dims,
-                                       std::size_t block) {
+// The histograms of the cells within one cell (3×3×3) of one the light
+// reached, of the same chain: those the neighbourhood mean gives light. Dilated one
+// axis at a time.
+std::vector<std::uint8_t> near_light(const LazySums& sums, const std::array<int, 3>& dims) {
     const std::size_t cells = std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]);
-    std::vector<float> v(cells * block);
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = float(double(sums[i].load()) / kFixedUnit);
+    constexpr std::size_t k = LightGuide::kChains;
+    std::vector<std::uint8_t> near(cells * k), next(cells * k);
+    for (std::size_t h = 0; h < near.size(); ++h) near[h] = sums.sums(h) != nullptr;
+    std::size_t stride = 1;
+    for (std::size_t axis = 0; axis < 3; stride *= std::size_t(dims[axis]), ++axis) {
+        const std::size_t n = std::size_t(dims[axis]);
+        for (std::size_t c = 0; c < cells; ++c) {
+            const std::size_t i = (c / stride) % n;
+            for (std::size_t chain = 0; chain < k; ++chain) {
+                std::uint8_t v = near[c * k + chain];
+                if (i > 0) v |= near[(c - stride) * k + chain];
+                if (i + 1 < n) v |= near[(c + stride) * k + chain];
+                next[c * k + chain] = v;
+            }
+        }
+        near.swap(next);
+    }
+    return near;
+}
+
+// The deposits (in cell lengths, `block` values per histogram; histogram
+// h at slot[h], or nowhere) averaged over each cell's 3×3×3 neighbourhood,
+// cells beyond the grid counting as dark. Filtered in place one axis at a
+// time, so it needs no more than the one copy. A histogram without a slot
+// is dark, and so is every partial sum over its neighbourhood: the light
+// reached no cell within one of it.
+std::vector<float> neighbourhood_means(std::vector<float> v, const std::vector<std::int32_t>& slot,
+                                       const std::array<int, 3>& dims, std::size_t block) {
+    const std::size_t cells = std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]);
+    constexpr std::size_t k = LightGuide::kChains;
+    const auto at = [&](std::size_t c, std::size_t chain) {
+        const std::int32_t s = slot[c * k + chain];
+        return s < 0 ? nullptr : &v[std::size_t(s) * block];
+    };
     std::vector<float> before(block), here(block);
     std::size_t stride = 1;
     for (std::size_t axis = 0; axis < 3; stride *= std::size_t(dims[axis]), ++axis) {
         const std::size_t n = std::size_t(dims[axis]);
         for (std::size_t first = 0; first < cells; ++first) {
             if ((first / stride) % n != 0) continue;  // not the first cell of a line along the axis
-            std::fill(before.begin(), before.end(), 0.f);
-            for (std::size_t i = 0; i < n; ++i) {
-                float* cell = &v[(first + i * stride) * block];
-                const float* after = i + 1 < n ? cell + stride * block : nullptr;
-                std::copy(cell, cell + block, here.begin());
-                for (std::size_t x = 0; x < block; ++x)
-                    cell[x] = (before[x] + here[x] + (after ? after[x] : 0.f)) / 3.f;
-                before.swap(here);
+            for (std::size_t chain = 0; chain < k; ++chain) {
+                std::fill(before.begin(), before.end(), 0.f);
+                for (std::size_t i = 0; i < n; ++i) {
+                    float* cell = at(first + i * stride, chain);
+                    if (!cell) {
+                        std::fill(before.begin(), before.end(), 0.f);
+                        continue;
+                    }
+                    const float* after = i + 1 < n ? at(first + (i + 1) * stride, chain) : nullptr;
+                    std::copy(cell, cell + block, here.begin());
+                    for (std::size_t x = 0; x < block; ++x)
+                        cell[x] = (before[x] + here[x] + (after ? after[x] : 0.f)) / 3.f;
+                    before.swap(here);
+                }
             }
         }
     }
@@ -196,6 +278,69 @@ void trace_photon(const Scene& scene, const glm::vec3& c, float r, SampleStream&
         trace_inside(scene, y, ng, in.direction, in.weight, deposits);
 }
 
+// The guide's histograms from the light in each bin of those that have a
+// place (`place`, −1 for none; nb bins each): each bin's light is its own
+// (`own`) mixed with its neighbourhood's (`light`, where the cumulative
+// distributions are then built in place). A histogram with light gets its
+// slot (in the order of the grid), its share of its cell's light and its
+// cumulative distribution over the bins.
+struct Histograms {
+    std::vector<std::int32_t> slot;
+    std::vector<float> share, cdf;
+};
+
+Histograms normalised_histograms(const std::vector<std::int32_t>& place, const std::vector<float>& own,
+                                 std::vector<float> light, std::size_t nb) {
+    constexpr std::size_t k = LightGuide::kChains;
+    Histograms out;
+    out.slot.assign(place.size(), -1);
+    std::size_t made = 0;
+    for (std::size_t c = 0; c < place.size() / k; ++c) {
+        double totals[k] = {}, cell_total = 0.0;
+        for (std::size_t chain = 0; chain < k; ++chain) {
+            const std::int32_t at = place[c * k + chain];
+            if (at < 0) continue;
+            for (std::size_t i = std::size_t(at) * nb; i < std::size_t(at + 1) * nb; ++i) {
+                light[i] = float((1.0 - kNeighbourShare) * double(own[i]) + kNeighbourShare * double(light[i]));
+                totals[chain] += light[i];
+            }
+            cell_total += totals[chain];
+        }
+        // Written at `made`, never after where it is read from.
+        for (std::size_t chain = 0; chain < k; ++chain) {
+            if (!(totals[chain] > 0.0)) continue;
+            const float* from = &light[std::size_t(place[c * k + chain]) * nb];
+            float* to = &light[made * nb];
+            out.slot[c * k + chain] = std::int32_t(made++);
+            out.share.push_back(float(totals[chain] / cell_total));
+            double running = 0.0;
+            for (std::size_t b = 0; b < nb; ++b) {
+                running += from[b];
+                to[b] = float(running / totals[chain]);
+            }
+            to[nb - 1] = 1.f;
+        }
+    }
+    light.resize(made * nb);
+    out.cdf = std::move(light);
+    return out;
+}
+
+// Every photon of the guide into `deposits` (photon i from
+// SampleStream(seed, i, kStream)).
+void trace_photons(const Scene& scene, std::uint64_t seed, std::uint32_t photons, const Deposits& deposits) {
+    const Bounds3 box = scene.boundary->mesh().bounds();
+    const glm::vec3 centre = 0.5f * (box.min + box.max);
+    const float radius = 0.5f * glm::length(box.extent()) * 1.01f;
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, photons, 1024),
+                      [&](const tbb::blocked_range<std::uint32_t>& range) {
+                          for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                              SampleStream rng(seed, i, kStream);
+                              trace_photon(scene, centre, radius, rng, deposits);
+                          }
+                      });
+}
+
 }  // namespace
 
 LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideSettings& settings) {
@@ -212,47 +357,30 @@ LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideS
         dims_[std::size_t(k)] = std::max(1, int(std::ceil(extent[k] / cell_size_)));
     const std::size_t cells = std::size_t(dims_[0]) * std::size_t(dims_[1]) * std::size_t(dims_[2]);
     const std::size_t nb = std::size_t(bins_.count());
-    const std::size_t histograms = cells * kChains;
-    std::unique_ptr<std::atomic<std::uint64_t>[]> sums(new std::atomic<std::uint64_t>[histograms * nb]());
-    const Deposits deposits{bins_, origin_, cell_size_, dims_, min_component(scene.medium->majorant()),
-                            sums.get()};
-    const glm::vec3 centre = 0.5f * (box.min + box.max);
-    const float radius = 0.5f * glm::length(extent) * 1.01f;
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, settings.photons, 1024),
-                      [&](const tbb::blocked_range<std::uint32_t>& range) {
-                          for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-                              SampleStream rng(seed, i, kStream);
-                              trace_photon(scene, centre, radius, rng, deposits);
-                          }
-                      });
-    const std::vector<float> neighbours = neighbourhood_means(sums.get(), dims_, kChains * nb);
-    // Histogram h's bin b: its own light mixed with its neighbourhood's.
-    const auto light = [&](std::size_t h, std::size_t b) {
-        const std::size_t i = h * nb + b;
-        return (1.0 - kNeighbourShare) * (double(sums[i].load()) / kFixedUnit) +
-               kNeighbourShare * double(neighbours[i]);
-    };
-    slot_.assign(histograms, -1);
-    std::int32_t made = 0;
-    for (std::size_t c = 0; c < cells; ++c) {
-        double totals[kChains] = {}, cell_total = 0.0;
-        for (std::size_t k = 0; k < kChains; ++k) {
-            for (std::size_t b = 0; b < nb; ++b) totals[k] += light(c * kChains + k, b);
-            cell_total += totals[k];
-        }
-        for (std::size_t k = 0; k < kChains; ++k) {
-            if (!(totals[k] > 0.0)) continue;
-            const std::size_t h = c * kChains + k;
-            slot_[h] = made++;
-            share_.push_back(float(totals[k] / cell_total));
-            double running = 0.0;
-            for (std::size_t b = 0; b < nb; ++b) {
-                running += light(h, b);
-                cdf_.push_back(float(running / totals[k]));
-            }
-            cdf_.back() = 1.f;
-        }
+    // The deposits, then (in cell lengths) those of the histograms the light
+    // reached and of their neighbours, each at its place in `own`.
+    std::vector<std::int32_t> slot(cells * kChains, -1);
+    std::vector<float> own;
+    {
+        LazySums sums(slot.size(), nb);
+        const Deposits deposits{bins_, origin_, cell_size_, dims_, min_component(scene.medium->majorant()), sums};
+        trace_photons(scene, seed, settings.photons, deposits);
+        const std::vector<std::uint8_t> near = near_light(sums, dims_);
+        std::size_t places = 0;
+        for (std::size_t h = 0; h < slot.size(); ++h)
+            if (near[h]) slot[h] = std::int32_t(places++);
+        if (places == 0) return;
+        own.assign(places * nb, 0.f);
+        for (std::size_t h = 0; h < slot.size(); ++h)
+            if (const std::atomic<std::uint64_t>* from = sums.sums(h))
+                for (std::size_t b = 0; b < nb; ++b)
+                    own[std::size_t(slot[h]) * nb + b] = float(double(from[b].load()) / kFixedUnit);
     }
+    std::vector<float> neighbours = neighbourhood_means(own, slot, dims_, nb);
+    Histograms made = normalised_histograms(slot, own, std::move(neighbours), nb);
+    slot_ = std::move(made.slot);
+    share_ = std::move(made.share);
+    cdf_ = std::move(made.cdf);
 }
 
 int LightGuide::histogram(const glm::vec3& p, SpecularChain chain) const {

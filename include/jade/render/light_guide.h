@@ -26,7 +26,9 @@
 // majorant: directions whose light arrives through much medium are drawn
 // less often, as they contribute less. A cell's histogram is mixed with its
 // 3×3×3 neighbourhood's, so bins and cells that few of the traced rays
-// reached are not left empty.
+// reached are not left empty. Only the cells the light reaches, and their
+// neighbours, hold histograms: memory follows the lit part of the object,
+// not its bounding box.
 
 #include "jade/core/bounds.h"
 #include "jade/core/sphere_bins.h"
