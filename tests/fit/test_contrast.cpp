@@ -211,7 +211,7 @@ TEST_CASE("material block: the side over which a render's noise averages to 0.1"
 
 TEST_CASE("contrast fit: a render at a known k_s and contrast, fitted from (0, 1), gives both back",
           "[fitter][contrast][fit-session]") {
-    test::FitTestScene t(test::ramp_photo(40, 190, 20), 64);
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 48);
     const Scene& scene = t.scene;
     const CameraParams& camera = t.camera;
     const MaterialVolume& volume = t.volume;
