@@ -247,7 +247,7 @@ TEST_CASE("contrast fit: a render at a known k_s and contrast, fitted from (0, 1
 
 TEST_CASE("contrast fit: where the contrast would clip many voxels, the density scale rises instead",
           "[fitter][contrast][fit-session]") {
-    test::FitTestScene t(test::ramp_photo(40, 190, 20), 40);
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 32);
     RenderSettings settings;
     // The "photo": the volume at 3× its density scale and contrast 3.5, so
     // that at its own density scale each channel's S needs a contrast above
