@@ -111,6 +111,7 @@ LightChain parse_light_chain(const std::string& name) {
 void IntegratorSettings::validate() const {
     if (max_depth < 1) throw Error("--max-depth must be at least 1");
     if (rr_depth < 0) throw Error("internal: the Russian roulette depth must not be negative");
+    if (light_guide_photons < 1) throw Error("internal: the light guide needs at least one ray");
 }
 
 // Everything one path carries from event to event.

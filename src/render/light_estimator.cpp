@@ -87,7 +87,9 @@ std::shared_ptr<const LightGuide> light_guide(const Scene& scene, const Integrat
     if (!settings.light_guide || scene.light.is_delta() || scene.interface.mode == BoundaryMode::None ||
         settings.light_through_boundary == LightThroughBoundary::Off)
         return nullptr;
-    auto guide = std::make_shared<const LightGuide>(scene, seed);
+    LightGuideSettings guide_settings;
+    guide_settings.photons = settings.light_guide_photons;
+    auto guide = std::make_shared<const LightGuide>(scene, seed, guide_settings);
     if (guide->empty()) return nullptr;
     return guide;
 }

@@ -343,6 +343,11 @@ void trace_photons(const Scene& scene, std::uint64_t seed, std::uint32_t photons
 
 }  // namespace
 
+std::uint32_t light_guide_photons(double camera_samples) {
+    constexpr double kSamplesPerRay = 64.0, kFewest = 1u << 18, kMost = 1u << 20;
+    return std::uint32_t(std::clamp(camera_samples / kSamplesPerRay, kFewest, kMost));
+}
+
 LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideSettings& settings) {
     if (!scene.boundary || !scene.medium || !scene.light.on() || scene.light.is_delta() ||
         scene.interface.mode == BoundaryMode::None || settings.cells < 1)

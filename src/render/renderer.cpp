@@ -1,5 +1,6 @@
 #include "jade/render/renderer.h"
 
+#include "jade/render/light_guide.h"
 #include "jade/render/pixel_sampler.h"
 
 #include "jade/io/atomic_file.h"
@@ -119,6 +120,16 @@ int next_pass_size(const RenderSettings& settings, int done, double seconds, dou
     return n;
 }
 
+// The integrator of a render of the whole camera at settings.spp. The light
+// guide's rays follow the render's camera samples, not a piece's, so every
+// piece of a split render builds the same guide.
+Integrator make_integrator(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings) {
+    IntegratorSettings integrator = settings.integrator;
+    integrator.light_guide_photons =
+        light_guide_photons(double(camera.width()) * double(camera.height()) * double(settings.spp));
+    return Integrator(scene, integrator, settings.seed);
+}
+
 }  // namespace
 
 Spectrum backdrop(const Scene& scene, const Backdrop& backdrop, const PathSample& ps, float fx,
@@ -136,7 +147,7 @@ Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSe
     if (bounds.x0 < 0 || bounds.y0 < 0 || bounds.x1 > camera.width() ||
         bounds.y1 > camera.height() || bounds.x0 > bounds.x1 || bounds.y0 > bounds.y1)
         throw Error("the pixel bounds lie outside the image");
-    const Integrator integrator(scene, settings.integrator, settings.seed);
+    const Integrator integrator = make_integrator(scene, camera, settings);
     Film film(camera.width(), camera.height());
     PathCounters local;
     add_samples(scene, integrator, camera, settings, samples, bounds, film, local, progress);
@@ -150,7 +161,7 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
     // The clock includes the integrator's set-up (a stiff medium's sphere
     // exit tables take seconds): error against time is the user's time.
     const Stopwatch clock;
-    const Integrator integrator(scene, settings.integrator, settings.seed);
+    const Integrator integrator = make_integrator(scene, camera, settings);
     RenderResult result;
     result.film = Film(camera.width(), camera.height());
     result.stopped_by = "spp";
@@ -210,7 +221,7 @@ SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const 
                          PathCounters* counters, Progress* progress) {
     settings.validate();
     if (settings.spp < 2) throw Error("internal: a render in halves needs at least 2 samples per pixel");
-    const Integrator integrator(scene, settings.integrator, settings.seed);
+    const Integrator integrator = make_integrator(scene, camera, settings);
     const PixelBounds whole{0, 0, camera.width(), camera.height()};
     const int half = settings.spp / 2;
     SplitFilms films{Film(camera.width(), camera.height()), Film(camera.width(), camera.height())};

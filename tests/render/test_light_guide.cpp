@@ -166,3 +166,12 @@ TEST_CASE("the guide is a normalised density that the threads do not change and 
     const Scene delta = guide_scene(accel, medium, {0.3f, 0.8f, 0.5f}, 0.f);
     CHECK(LightGuide(delta, 3).empty());
 }
+
+TEST_CASE("the guide's rays follow the render's camera samples: one per 64 between 2^18 and 2^20",
+          "[light-guide]") {
+    CHECK(light_guide_photons(128.0 * 128.0 * 256.0) == 1u << 18);  // a fitting render: the fewest
+    CHECK(light_guide_photons(256.0 * 256.0 * 512.0) == 1u << 19);
+    CHECK(light_guide_photons(512.0 * 512.0 * 256.0) == 1u << 20);  // the demo's final render
+    CHECK(light_guide_photons(4096.0 * 4096.0 * 1e6) == 1u << 20);  // a time-limited render's cap
+    CHECK(light_guide_photons(0.0) == 1u << 18);
+}

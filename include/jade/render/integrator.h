@@ -45,6 +45,7 @@
 #include "jade/render/sphere_exit.h"
 #include "jade/render/tracking.h"
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -95,6 +96,9 @@ struct IntegratorSettings {
     // half the estimator's directions from the light guide, which knows
     // every face the light comes in by (render/light_guide.h).
     bool light_guide = true;
+    // The rays the guide traces from the light; a render sets it from its
+    // camera samples (light_guide_photons in render/light_guide.h).
+    std::uint32_t light_guide_photons = 1u << 18;
     void validate() const;
 };
 

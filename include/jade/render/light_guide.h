@@ -50,6 +50,12 @@ struct LightGuideSettings {
     std::uint32_t photons = 1u << 18;    // rays traced from the light's disc
 };
 
+// The rays a guide traces for a render of `camera_samples` samples in all
+// (pixels × samples per pixel): one per 64, at least 2^18 and at most 2^20,
+// so that the guide is a small share of any render's time and a long render
+// has a finer one (docs/design.md, "Light guide").
+std::uint32_t light_guide_photons(double camera_samples);
+
 class LightGuide {
 public:
     // The chains through the boundary it knows: Refraction (0),
