@@ -15,7 +15,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <memory>
 
 namespace jade {
 
@@ -78,7 +77,6 @@ public:
     }
     // Histogram h's sums, or null where no light reached it.
     const std::atomic<std::uint64_t>* sums(std::size_t h) const { return blocks_[h].load(); }
-    std::size_t histograms() const { return blocks_.size(); }
 
 private:
     std::vector<std::atomic<std::atomic<std::uint64_t>*>> blocks_;
@@ -197,8 +195,8 @@ void trace_mirrored(const Scene& scene, const glm::vec3& y, const glm::vec3& ng,
 }
 
 // The histograms of the cells within one cell (3×3×3) of one the light
-// reached, of the same chain: those the neighbourhood mean gives light. Dilated one
-// axis at a time.
+// reached, of the same chain: those the neighbourhood mean gives light.
+// Dilated one axis at a time.
 std::vector<std::uint8_t> near_light(const LazySums& sums, const std::array<int, 3>& dims) {
     const std::size_t cells = std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]);
     constexpr std::size_t k = LightGuide::kChains;
