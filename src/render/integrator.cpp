@@ -385,7 +385,7 @@ Integrator::Flight Integrator::track(PathState& s, float t_max, MediumProperties
     const int h = s.hero;
     Flight result = Flight::Reached;
     const Spectrum T_rest = sample_t_maj(
-        *scene_.medium, s.o, s.d, t_max, h, s.rng,
+        *scene_.medium, s.o, s.d, t_max, h, Spectrum(0.f), s.rng,
         [&](const glm::vec3& p, const MediumProperties& m, const Spectrum& mu, const Spectrum& T_maj) {
             const Spectrum sigma_t = m.sigma_s + m.sigma_a;
             if (s.rng.uniform() < sigma_t[h] / mu[h]) {  // a real collision

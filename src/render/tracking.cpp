@@ -22,11 +22,12 @@ PathCounters& PathCounters::operator+=(const PathCounters& o) {
 
 Spectrum ratio_tracking(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
                         SampleStream& rng, PathCounters& counters) {
-    Spectrum tr(1.f);
-    sample_t_maj(medium, o, d, t_max, kGreyMajorant, rng,
+    const Spectrum control = medium.minorant();
+    Spectrum tr = majorant_transmittance(control, t_max);
+    sample_t_maj(medium, o, d, t_max, kGreyMajorant, control, rng,
                  [&](const glm::vec3&, const MediumProperties& m, const Spectrum& mu, const Spectrum&) {
         ++counters.null_collisions;
-        tr *= glm::max(Spectrum(0.f), Spectrum(1.f) - (m.sigma_s + m.sigma_a) / mu);
+        tr *= glm::max(Spectrum(0.f), Spectrum(1.f) - (m.sigma_s + m.sigma_a - control) / mu);
         // Russian roulette on a faint shadow ray keeps it unbiased and short.
         const float q = max_component(tr);
         if (q < 0.1f) {

@@ -1,6 +1,6 @@
 // Media: trilinear lookup between voxel centres with clamped edges (the
-// OpenVDB / Mitsuba convention of the reference scene C), majorants that
-// bound every lookup, and the material volume's coefficients per cube.
+// OpenVDB / Mitsuba convention of the reference scene C), majorants and
+// minorants that bound every lookup, and the material volume's coefficients per cube.
 
 #include "jade/render/media/grid.h"
 #include "jade/render/media/homogeneous.h"
@@ -43,9 +43,10 @@ TEST_CASE("grid lookup is trilinear between voxel centres and clamped outside", 
     CHECK(m.at({5.f, -3.f, 0.f}).sigma_s == Spectrum(3.f, 0.f, 0.f));
     CHECK(m.at({-9.f, 9.f, 9.f}).sigma_s == Spectrum(1.f, 2.f, 3.f));
     CHECK(m.majorant() == Spectrum(3.5f, 2.5f, 3.5f));
+    CHECK(m.minorant() == Spectrum(1.5f, 0.5f, 0.5f));
 }
 
-TEST_CASE("the majorant bounds the extinction everywhere", "[medium]") {
+TEST_CASE("the majorant and the minorant bound the extinction everywhere", "[medium]") {
     CoefficientGrids g;
     g.placement.size = {5, 4, 3};
     g.placement.spacing = glm::vec3(0.1f);
@@ -59,8 +60,12 @@ TEST_CASE("the majorant bounds the extinction everywhere", "[medium]") {
     for (int i = 0; i < 20000; ++i) {
         const glm::vec3 p(u.uniform() * 0.7f - 0.1f, u.uniform() * 0.6f - 0.1f, u.uniform() * 0.5f - 0.1f);
         const MediumProperties mp = m.at(p);
-        for (int c = 0; c < 3; ++c) REQUIRE(mp.sigma_s[c] + mp.sigma_a[c] <= m.majorant()[c] * (1 + 1e-6f));
+        for (int c = 0; c < 3; ++c) {
+            REQUIRE(mp.sigma_s[c] + mp.sigma_a[c] <= m.majorant()[c] * (1 + 1e-6f));
+            REQUIRE(mp.sigma_s[c] + mp.sigma_a[c] >= m.minorant()[c] * (1 - 1e-6f));
+        }
     }
+    for (int c = 0; c < 3; ++c) CHECK(m.minorant()[c] > 0.f);  // channel 1's σ_a is 0, its σ_s is not
 }
 
 TEST_CASE("negative or non-finite coefficients are refused", "[medium]") {
@@ -92,7 +97,9 @@ TEST_CASE("the material volume becomes world coefficients on any cube", "[medium
         CHECK(p.sigma_a.x == Approx((1 - 128 / 256.0) * 0.1 * scale));
         // The optical thickness across the cube is the same for every cube size.
         CHECK(p.sigma_s.x * side == Approx((128 / 256.0 + 0.1) * v.optics.density_scale));
-        // The majorant covers the largest level that occurs (the sigma_a of level 0).
+        // The majorant covers the largest level that occurs (the sigma_a of
+        // level 0), the minorant the smallest.
         CHECK(m.majorant().x == Approx(std::max((128 / 256.0 + 0.1) + 0.5 * 0.1, 0.1 + 0.1) * scale));
+        CHECK(m.minorant().x == Approx(std::min((128 / 256.0 + 0.1) + 0.5 * 0.1, 0.1 + 0.1) * scale));
     }
 }

@@ -36,6 +36,10 @@ public:
     virtual MediumProperties at(const glm::vec3& p) const = 0;
     // Per-channel upper bound of σ_t = σ_s + σ_a over all points.
     virtual Spectrum majorant() const = 0;
+    // Per-channel lower bound of σ_t over all points (0 where none is
+    // known): the control extinction of residual ratio tracking
+    // (render/tracking.h).
+    virtual Spectrum minorant() const { return Spectrum(0.f); }
     // The segment of the ray o + t·d that starts at t_min and ends no later
     // than t_max. The default: all of [t_min, t_max) under the global
     // majorant.

@@ -61,21 +61,24 @@ inline Spectrum majorant_transmittance(const Spectrum& mu, float dt) {
 constexpr int kGreyMajorant = -1;
 
 // Tentative collisions along o + t·d for 0 ≤ t < t_max, drawn against the
-// majorant of `channel`. At each one,
+// majorant of `channel` less `control`, a control extinction σ_c ≤ σ_t
+// (zero for delta tracking; the minorant for residual ratio tracking). At
+// each one,
 // `collide(p, properties, sigma_maj, T_maj)` returns true to go on, false to
 // stop; T_maj is the majorant transmittance per channel since the previous
 // tentative collision (all ones under a grey majorant). Returns the majorant
 // transmittance from the last tentative collision to t_max, or zero when a
 // callback stopped the flight. Stretches where the channel's majorant is 0
-// are crossed without drawing a number.
+// (or all control) are crossed without drawing a number.
 template <typename Collide>
 Spectrum sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
-                      int channel, SampleStream& rng, Collide&& collide) {
+                      int channel, const Spectrum& control, SampleStream& rng, Collide&& collide) {
     const bool grey = channel == kGreyMajorant;
     Spectrum T_maj(1.f);
     for (float t_min = 0.f; t_min < t_max;) {
         const MajorantSegment seg = medium.majorant_segment(o, d, t_min, t_max);
-        const Spectrum mu = grey ? Spectrum(max_component(seg.sigma_maj)) : seg.sigma_maj;
+        const Spectrum residual = glm::max(Spectrum(0.f), seg.sigma_maj - control);
+        const Spectrum mu = grey ? Spectrum(max_component(residual)) : residual;
         const float rate = mu[grey ? 0 : channel];
         float t = seg.t_min;
         if (rate > 0.f) {
@@ -114,10 +117,16 @@ bool advance_within_clearance(const MeshAccel& boundary, glm::vec3& o, const glm
     return true;
 }
 
-// Ratio tracking (Cramer 1978; Novák et al. 2014) along o + t·d for
-// 0 ≤ t < t_max: every tentative collision multiplies the estimate by the
-// probability of a null collision there, σ_n / σ̄, per channel; Russian
-// roulette ends a faint estimate without bias.
+// Residual ratio tracking (Novák et al. 2014) along o + t·d for
+// 0 ≤ t < t_max: the estimate starts at the transmittance of the medium's
+// minorant σ_c, known in closed form, and every tentative collision, drawn
+// against the residual majorant μ − σ_c, multiplies it by the probability
+// of a null collision of the residual there, 1 − (σ_t − σ_c) / (μ − σ_c),
+// per channel; Russian roulette ends a faint estimate without bias. Where
+// the extinction is the same everywhere (the default model, σ_t = d_s + k_s
+// in every voxel, DESIGN.md §10) the residual is zero: the transmittance is
+// exact and needs no lookup. Plain ratio tracking (Cramer 1978) against a
+// majorant equal to σ_t would instead answer 0 or 1.
 Spectrum ratio_tracking(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
                         SampleStream& rng, PathCounters& counters);
 

@@ -7,6 +7,7 @@
 #include <tbb/blocked_range.h>
 
 #include <cmath>
+#include <limits>
 
 namespace jade {
 
@@ -47,7 +48,9 @@ MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const C
       table_(optics, cube.side) {
     if (volume.levels.size() != grid_.voxels())
         throw Error("internal: material volume has the wrong number of voxels");
-    // The majorant is the largest σ_t over the levels that actually occur.
+    // The majorant and minorant are the largest and smallest σ_t over the
+    // levels that actually occur (trilinear weights are non-negative and
+    // sum to 1, so every lookup lies between them).
     using Used = std::array<std::array<bool, 256>, 3>;
     const Used used = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, volume.levels.size(), 1 << 16), Used{},
@@ -62,10 +65,14 @@ MaterialVolumeMedium::MaterialVolumeMedium(const MaterialVolume& volume, const C
             return a;
         });
     majorant_ = Spectrum(0.f);
+    minorant_ = Spectrum(std::numeric_limits<float>::infinity());
     for (int c = 0; c < 3; ++c)
         for (int l = 0; l < 256; ++l)
-            if (used[c][l])
-                majorant_[c] = std::max(majorant_[c], table_.sigma_s[c][l] + table_.sigma_a[c][l]);
+            if (used[c][l]) {
+                const float sigma_t = table_.sigma_s[c][l] + table_.sigma_a[c][l];
+                majorant_[c] = std::max(majorant_[c], sigma_t);
+                minorant_[c] = std::min(minorant_[c], sigma_t);
+            }
     majorant_ = glm::max(majorant_, majorant_floor);
 }
 
@@ -103,6 +110,7 @@ FloatGridMedium::FloatGridMedium(CoefficientGrids grids) : grids_(std::move(grid
             a.z < 0.f)
             throw Error("medium grid holds a negative or non-finite coefficient");
         majorant_ = glm::max(majorant_, s + a);
+        minorant_ = glm::min(minorant_, s + a);
     }
 }
 

@@ -10,6 +10,7 @@
 #include "jade/render/medium.h"
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace jade {
@@ -39,6 +40,7 @@ public:
                          const Spectrum& majorant_floor = Spectrum(0.f));
     MediumProperties at(const glm::vec3& p) const override;
     Spectrum majorant() const override { return majorant_; }
+    Spectrum minorant() const override { return minorant_; }
     std::size_t memory_bytes() const override;
     const GridPlacement& placement() const { return grid_; }
 
@@ -46,7 +48,7 @@ private:
     const MaterialVolume& volume_;
     GridPlacement grid_;
     CoefficientTable table_;
-    Spectrum majorant_;
+    Spectrum majorant_, minorant_;
 };
 
 class FloatGridMedium final : public Medium {
@@ -54,12 +56,13 @@ public:
     explicit FloatGridMedium(CoefficientGrids grids);  // throws for negative or non-finite values
     MediumProperties at(const glm::vec3& p) const override;
     Spectrum majorant() const override { return majorant_; }
+    Spectrum minorant() const override { return minorant_; }
     std::size_t memory_bytes() const override;
     const GridPlacement& placement() const { return grids_.placement; }
 
 private:
     CoefficientGrids grids_;
-    Spectrum majorant_{0.f};
+    Spectrum majorant_{0.f}, minorant_{std::numeric_limits<float>::infinity()};
 };
 
 }  // namespace jade

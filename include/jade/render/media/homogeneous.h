@@ -11,6 +11,7 @@ public:
     HomogeneousMedium(const Spectrum& sigma_s, const Spectrum& sigma_a);  // throws if negative
     MediumProperties at(const glm::vec3&) const override { return props_; }
     Spectrum majorant() const override { return props_.sigma_s + props_.sigma_a; }
+    Spectrum minorant() const override { return majorant(); }
     bool homogeneous() const override { return true; }
     std::size_t memory_bytes() const override { return sizeof(*this); }
 
