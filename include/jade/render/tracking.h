@@ -123,9 +123,9 @@ bool advance_within_clearance(const MeshAccel& boundary, glm::vec3& o, const glm
 // against the residual majorant μ − σ_c, multiplies it by the probability
 // of a null collision of the residual there, 1 − (σ_t − σ_c) / (μ − σ_c),
 // per channel; Russian roulette ends a faint estimate without bias. Where
-// the extinction is the same everywhere (the default model, σ_t = d_s + k_s
-// in every voxel, DESIGN.md §10) the residual is zero: the transmittance is
-// exact and needs no lookup. Plain ratio tracking (Cramer 1978) against a
+// the extinction is the same everywhere (the default model: σ_t = d_s + k_s
+// in every voxel at d_a = 1, docs/design.md, "Coefficients") the residual
+// is zero: the transmittance is exact and needs no lookup. Plain ratio tracking (Cramer 1978) against a
 // majorant equal to σ_t would instead answer 0 or 1.
 Spectrum ratio_tracking(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
                         SampleStream& rng, PathCounters& counters);
