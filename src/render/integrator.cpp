@@ -27,6 +27,13 @@ constexpr float kSphereMargin = 4.f;
 // their flights first (Integrator::fly_drawn).
 constexpr float kQueryReach = 4.f;
 
+// A hero channel whose extinction varies by less than this fraction of its
+// majorant draws its flights first (Integrator::fly_drawn): a drawn point is
+// then a null collision with probability below it, and the one extra surface
+// query such a point costs is rare. The default model's extinction is the
+// same in every voxel (docs/design.md, "Coefficients") up to float rounding.
+constexpr float kNearlyUniform = 1e-3f;
+
 // The sphere exit tables a scene needs: none unless the medium is
 // homogeneous and spheres of level 1 fit in the object with their margin;
 // levels up to the largest sphere a hero channel could use.
@@ -151,6 +158,11 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, s
     settings_.validate();
     if (!scene.boundary) throw Error("internal: a scene needs a boundary mesh");
     sphere_exits_ = sphere_exit_tables(scene, settings_, seed);
+    if (scene.medium) {
+        const Spectrum mu = scene.medium->majorant(), floor = scene.medium->minorant();
+        for (int c = 0; c < 3; ++c)
+            draw_first_[c] = scene.medium->homogeneous() || mu[c] - floor[c] <= kNearlyUniform * mu[c];
+    }
 }
 
 PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
@@ -286,7 +298,7 @@ Integrator::Walk Integrator::walk_sphere(PathState& s) const {
 // left in `hit`. Free flights are memoryless, so the split is unbiased.
 Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
                                    MediumProperties& at) const {
-    if (scene_.medium->homogeneous()) return fly_drawn(s, hit, at);
+    if (draw_first_[s.hero]) return fly_drawn(s, hit, at);
     Flight flight = Flight::Reached;
     const glm::vec3 start = s.o;
     const float query_from = s.query_from;
@@ -322,16 +334,29 @@ Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
     return flight;
 }
 
-// A free flight in a homogeneous medium, whose hero majorant is its σ_t
-// everywhere: every tentative collision is real, so the flight's length t
-// is drawn once, first. The clearance's stretches are crossed while t
-// exceeds them (no collision in them, no numbers drawn), and past them the
+// A free flight where the hero's σ_t is its majorant everywhere (a
+// homogeneous medium, or the default model's grid, whose extinction is the
+// same in every voxel): every tentative collision is real, so the flight's
+// length t is drawn once, first. The clearance's stretches are crossed while
+// t exceeds them (no collision in them, no numbers drawn), and past them the
 // surface is asked for only up to what is left of t (as Mitsuba's
 // homogeneous medium does): a query that short costs Embree less than one
 // to kQueryReach mean free paths, and none asks again. The weights are
-// track()'s, T_maj / T_maj[h] over the whole flight.
+// track()'s, T_maj / T_maj[h] over the whole flight; where σ_t falls short
+// of the majorant (by under kNearlyUniform) the drawn point is a null
+// collision with track()'s probability and weight, and the flight goes on.
 Integrator::Flight Integrator::fly_drawn(PathState& s, std::optional<SurfaceHit>& hit,
                                          MediumProperties& at) const {
+    for (;;) {
+        const std::optional<Flight> flight = draw_flight(s, hit, at);
+        if (flight) return *flight;
+    }
+}
+
+// One drawn flight of fly_drawn: its end, or nothing after a null collision
+// (the path then stands at it, its weight updated).
+std::optional<Integrator::Flight> Integrator::draw_flight(PathState& s, std::optional<SurfaceHit>& hit,
+                                                          MediumProperties& at) const {
     const Spectrum mu = scene_.medium->majorant();
     float t = mu[s.hero] > 0.f ? sample_free_flight(mu[s.hero], s.rng) : kInfinity;
     const glm::vec3 start = s.o;
@@ -366,10 +391,20 @@ Integrator::Flight Integrator::fly_drawn(PathState& s, std::optional<SurfaceHit>
     // 10). One that stays within the bounds scatters outside until it leaves them.
     const glm::vec3 collision = s.o + t * s.d;
     if (!std::isfinite(t) || !scene_.boundary->bounds().contains(collision)) return Flight::Reached;
-    ++s.counters.real_collisions;
-    s.collision = collision;
-    at = scene_.medium->at(s.collision);
-    return Flight::Scattered;
+    at = scene_.medium->at(collision);
+    const int h = s.hero;
+    const Spectrum sigma_t = at.sigma_s + at.sigma_a;
+    if (!(sigma_t[h] < mu[h]) || s.rng.uniform() * mu[h] < sigma_t[h]) {
+        ++s.counters.real_collisions;
+        s.collision = collision;
+        return Flight::Scattered;
+    }
+    ++s.counters.null_collisions;
+    const Spectrum sigma_n = glm::max(Spectrum(0.f), mu - sigma_t);
+    if (!(sigma_n[h] > 0.f)) return Flight::Ended;
+    s.w.scale(sigma_n / sigma_n[h]);
+    s.o = collision;
+    return std::nullopt;
 }
 
 // Delta tracking to the next real collision before t_max, against the

@@ -45,6 +45,7 @@
 #include "jade/render/sphere_exit.h"
 #include "jade/render/tracking.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -141,6 +142,7 @@ private:
     Flight track(PathState& s, float t_max, MediumProperties& at) const;
     Flight fly(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     Flight fly_drawn(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
+    std::optional<Flight> draw_flight(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
     void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
@@ -158,6 +160,7 @@ private:
     IntegratorSettings settings_;
     LightEstimators estimators_;
     SphereExitTables sphere_exits_;
+    std::array<bool, 3> draw_first_{false, false, false};  // per hero channel: fly_drawn
 };
 
 }  // namespace jade
