@@ -13,28 +13,31 @@ namespace jade {
 
 namespace {
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
-// The guide's share of the samples where another estimator covers the
-// chain too. Half: where the other aims well, its half keeps most of its
-// strength, and where it misses, the guide's half finds the light.
-constexpr float kGuideShare = 0.5f;
 }  // namespace
 
 GuidedEstimator::GuidedEstimator(const Scene& scene, SpecularChain chain, std::shared_ptr<const LightGuide> guide,
-                                 std::unique_ptr<LightEstimator> other)
+                                 std::unique_ptr<LightEstimator> other, float guide_share)
     : LightEstimator(scene.light), scene_(scene), chain_(chain),
       guide_(std::move(guide)),
-      other_(std::move(other)) {
+      other_(std::move(other)), guide_share_(guide_share) {
     if (chain == SpecularChain::None || !guide_) throw Error("internal: a guided estimator needs a chain and a guide");
+    if (!(guide_share_ > 0.f && guide_share_ <= 1.f)) throw Error("internal: the guide's share lies in (0, 1]");
 }
 
 // The probability that a vertex in histogram h's cell gets a sample, and
 // the guide's share of it. Mixed with another estimator, every vertex
-// gets one, half from the guide. Alone, a vertex gets one with the
-// probability of its chain's share of the light the cell receives: a
-// chain that brings little light there gets few samples.
+// gets one, guide_share_ of them from the guide. Alone, a vertex gets one
+// with the probability of its chain's share of the light the cell
+// receives: a chain that brings little light there gets few samples.
 GuidedEstimator::Mixture GuidedEstimator::mixture(int h) const {
-    if (other_) return {1.f, kGuideShare};
+    if (other_) return {1.f, guide_share_};
     return {guide_->share(h), 1.f};
+}
+
+// The other estimator's density of the path's direction, where it draws a
+// share of the samples (for the cone it costs a ray query, its probe).
+float GuidedEstimator::other_pdf(const Mixture& m, const PathToLight& path, PathCounters& counters) const {
+    return other_ && m.guided < 1.f ? other_->pdf(path, counters) : 0.f;
 }
 
 LightSample GuidedEstimator::follow(const glm::vec3& p, const glm::vec3& w, SampleStream& rng,
@@ -111,7 +114,7 @@ std::optional<LightSample> GuidedEstimator::sample(const glm::vec3& p, float u1,
         LightSample ls = follow(p, w, rng, counters, path);
         ls.direction = w;
         if (!(max_component(ls.radiance) > 0.f)) return ls;  // nothing arrives: no density needed
-        ls.pdf = density(h, m, w, other_ ? other_->pdf(path, counters) : 0.f);
+        ls.pdf = density(h, m, w, other_pdf(m, path, counters));
         // A direction drawn on a bin's edge may round into an empty
         // neighbour: drop it (a density of 0 would read as a delta).
         if (!(ls.pdf > 0.f)) ls.radiance = Spectrum(0.f);
@@ -124,10 +127,10 @@ std::optional<LightSample> GuidedEstimator::sample(const glm::vec3& p, float u1,
 
 float GuidedEstimator::pdf(const PathToLight& path, PathCounters& counters) const {
     if (path.chain != chain_) return 0.f;
-    const float other = other_ ? other_->pdf(path, counters) : 0.f;
     const int h = guide_->histogram(path.vertex, chain_);
-    if (h < 0) return other;
-    return density(h, mixture(h), path.direction, other);
+    if (h < 0) return other_ ? other_->pdf(path, counters) : 0.f;
+    const Mixture m = mixture(h);
+    return density(h, m, path.direction, other_pdf(m, path, counters));
 }
 
 // The density of direction w at a vertex of histogram h: the guide's share

@@ -9,11 +9,15 @@
 // if they leave inside the disc.
 //
 // Where another estimator covers the same chain (the cone or the manifold
-// walk), half the samples are its own. It aims at one surface point: where
-// the light's axis leaves, or where the walk's seed lies. The guide has
-// traced the light in through every face, so a vertex whose light comes in
-// by another face (under a vase's rim, lit through its top) is reached as
-// well. To the integrator it is one estimator: its density, the mixture's,
+// walk), a share of the samples are its own (half by default), and all of
+// them where the guide has no histogram. It aims at one surface point:
+// where the light's axis leaves, or where the walk's seed lies. The guide
+// has traced the light in through every face, so a vertex whose light
+// comes in by another face (under a vase's rim, lit through its top) is
+// reached as well. A large disc's preimage spans several of the guide's
+// bins, and the guide alone does better there than with the cone
+// (guide_share 1: the other serves only cells without a histogram;
+// docs/design.md, "Light guide"). To the integrator it is one estimator: its density, the mixture's,
 // is known for every path of the chain, so the paths that meet the light by
 // themselves are weighed against it by MIS as before.
 
@@ -27,10 +31,11 @@ namespace jade {
 class GuidedEstimator final : public LightEstimator {
 public:
     // The estimator of scene.light along `chain` (not None) from `guide`,
-    // that light's guide, mixed with
-    // `other` (null: none), an estimator of the same light and chain.
+    // that light's guide, mixed with `other` (null: none), an estimator of
+    // the same light and chain, which draws 1 − guide_share of the samples
+    // (guide_share in (0, 1]) and all of them where the guide has none.
     GuidedEstimator(const Scene& scene, SpecularChain chain, std::shared_ptr<const LightGuide> guide,
-                    std::unique_ptr<LightEstimator> other);
+                    std::unique_ptr<LightEstimator> other, float guide_share = 0.5f);
     std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
                                       PathCounters& counters) const override;
     float pdf(const PathToLight& path, PathCounters& counters) const override;
@@ -49,12 +54,14 @@ private:
         float guided;   // the share of those drawn from the guide
     };
     Mixture mixture(int h) const;
+    float other_pdf(const Mixture& m, const PathToLight& path, PathCounters& counters) const;
     float density(int h, const Mixture& m, const glm::vec3& w, float other) const;
 
     const Scene& scene_;
     SpecularChain chain_;
     std::shared_ptr<const LightGuide> guide_;
     std::unique_ptr<LightEstimator> other_;
+    float guide_share_;
 };
 
 }  // namespace jade
