@@ -308,7 +308,7 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "Next-event estimation of the light through a refracting boundary: 'manifold' "
                    "(Newton's method finds the refraction toward a point of the light), 'cone' (a "
                    "guided cone of directions), 'auto' (manifold below 4 degrees of light radius, "
-                   "cone above, the light guide alone from 15 degrees; 10 degrees without --light-guide) or 'off' (only paths that refract "
+                   "cone above; 10 degrees without --light-guide) or 'off' (only paths that refract "
                    "out into the light's disc find it, no light guide either; same image, more noise). A delta light always uses 'manifold'. An "
                    "environment image is importance-sampled through the boundary by the walk "
                    "('off' turns that off too)")
@@ -325,7 +325,7 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "For a disc light behind a refracting boundary, trace the light into the object before "
                    "the render and record from which directions it arrives in each cell (straight in, "
                    "after a reflection inside, after a reflection off the outside of another part); half "
-                   "the one-refraction next-event directions are drawn from it (under 'auto' all of them "
+                   "the one-refraction next-event directions are drawn from it (under 'auto' 0.8 of them "
                    "for a light of 15 degrees or more), and all of the two other chains' (same image, less "
                    "noise from light that comes in by faces the other estimators do not aim at); false: "
                    "without it")

@@ -20,14 +20,19 @@ constexpr float kManifoldBelowDegrees = 10.f;
 // better at 5° (relative MSE 0.0056 against 0.0065) and the walk at 2.5°
 // (0.0077 against 0.0083).
 constexpr float kGuidedManifoldBelowDegrees = 4.f;
-// From this angular radius on, `auto` draws every one-refraction direction
-// from the guide where it has a histogram (the cone only where it has
-// none): the disc's preimage inside (its radius over the index of
-// refraction, about 9° here) then spans more than one of the guide's 8.5°
-// bins, and the cone's probe ray costs more than its samples bring. On the
-// demo at equal time (256², 30 s, three seed pairs) the relative MSE was
-// 5 % lower at 20°, equal at 15°, and 16 % higher at 10°, 41 % at 5°.
-constexpr float kGuideAloneFromDegrees = 15.f;
+// From this angular radius on, `auto` draws most one-refraction directions
+// from the guide (kWideDiscGuideShare, against half below): the disc's
+// preimage inside (its radius over the index of refraction, about 9° here)
+// then spans more than one of the guide's 8.5° bins, so the guide draws it
+// well, and the cone's samples, each needing a probe ray, add less. The
+// cone keeps a fifth: its density is a floor inside the cone for the paths
+// that meet the light by themselves (with the guide alone their share of
+// the variance grew fourfold). On the demo at equal time (256², 30 s, seed
+// pairs 1–2, 3–4, 5–6) the relative MSE was 7.5 % lower at 20°, 3 % lower
+// at 15°; at 10° it was 6 % higher, at 5° the same (docs/design.md,
+// "Light guide").
+constexpr float kWideDiscFromDegrees = 15.f;
+constexpr float kWideDiscGuideShare = 0.8f;
 }  // namespace
 
 namespace {
@@ -116,10 +121,10 @@ LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettin
         if (reflected_chain(scene, settings, scene.light) && !(guide && settings.light_chain == LightChain::Auto))
             two = std::make_unique<ManifoldEstimator>(scene, scene.light, SpecularChain::ReflectionRefraction);
         if (guide) {
-            const bool alone = settings.light_through_boundary == LightThroughBoundary::Auto &&
-                               scene.light.angular_radius_degrees() >= kGuideAloneFromDegrees;
+            const bool wide = settings.light_through_boundary == LightThroughBoundary::Auto &&
+                              scene.light.angular_radius_degrees() >= kWideDiscFromDegrees;
             one = std::make_unique<GuidedEstimator>(scene, SpecularChain::Refraction, guide, std::move(one),
-                                                    alone ? 1.f : 0.5f);
+                                                    wide ? kWideDiscGuideShare : 0.5f);
             if (settings.light_chain != LightChain::One)
                 two = std::make_unique<GuidedEstimator>(scene, SpecularChain::ReflectionRefraction, guide,
                                                         std::move(two));

@@ -1,6 +1,7 @@
 // The guided estimator of the light through one refraction
 // (render/light_estimators/guided.h), mixed with the cone at half its
-// samples and alone with the cone only where the guide has no histogram:
+// samples, at a fifth (a wide disc's default), and alone with the cone only
+// where the guide has no histogram:
 // from vertices inside a sphere its estimate of the light arriving by one
 // refraction must equal that integral over all interior directions, drawn
 // uniformly and followed the same way; and the density of each sample must
@@ -72,7 +73,7 @@ TEST_CASE("the guided one-refraction estimator integrates the refracted light wi
             return double(ls.radiance.x * ls.transmittance.x) * 4.0 * kPiD;
         });
         REQUIRE(truth.mean > 0.0);
-        for (float share : {0.5f, 1.f}) {
+        for (float share : {0.5f, 0.8f, 1.f}) {
             const GuidedEstimator guided(s, SpecularChain::Refraction, guide,
                                          std::make_unique<RefractedConeEstimator>(s), share);
             int lit = 0, mismatched = 0;

@@ -1054,10 +1054,9 @@ TEST_CASE("the light guide's estimators agree with disc hits with the light a va
             const double v_plain = relative_variance_per_sample(plain.film, 256);
             INFO("relative variance per sample: guided " << v_guided << ", without the guide " << v_plain
                  << ", disc hits " << relative_variance_per_sample(hits.film, 2048));
-            // At 20° the one-refraction directions all come from the guide
-            // (the cone only where a cell has no histogram); without it the
-            // cone takes them all: the guide lowered the variance per sample
-            // 2× (14.5 against 29.2). At 5° the guide
+            // At 20° the guide draws 0.8 of the one-refraction directions
+            // and the cone the rest; without the guide the cone draws them
+            // all. At 5° the guide
             // comes with the cone, without it auto takes both walks, which
             // cost about 3× as much a sample and had 0.64× the variance
             // per sample; that trade is measured at equal time (README,

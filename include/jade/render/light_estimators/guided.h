@@ -14,10 +14,9 @@
 // where the light's axis leaves, or where the walk's seed lies. The guide
 // has traced the light in through every face, so a vertex whose light
 // comes in by another face (under a vase's rim, lit through its top) is
-// reached as well. A large disc's preimage spans several of the guide's
-// bins, and the guide alone does better there than with the cone
-// (guide_share 1: the other serves only cells without a histogram;
-// docs/design.md, "Light guide"). To the integrator it is one estimator: its density, the mixture's,
+// reached as well. A wide disc's preimage spans several of the guide's
+// bins, and the guide then takes most of the samples (docs/design.md,
+// "Light guide"). To the integrator it is one estimator: its density, the mixture's,
 // is known for every path of the chain, so the paths that meet the light by
 // themselves are weighed against it by MIS as before.
 
