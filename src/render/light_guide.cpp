@@ -384,6 +384,9 @@ LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideS
     slot_ = std::move(made.slot);
     share_ = std::move(made.share);
     cdf_ = std::move(made.cdf);
+    const std::size_t n = std::size_t(bins_.n);
+    row_ends_.resize(cdf_.size() / n);
+    for (std::size_t r = 0; r < row_ends_.size(); ++r) row_ends_[r] = cdf_[r * n + n - 1];
 }
 
 int LightGuide::histogram(const glm::vec3& p, SpecularChain chain) const {
@@ -403,10 +406,16 @@ int LightGuide::chain_index(SpecularChain chain) {
     return -1;
 }
 
+// The first bin whose cumulative share exceeds u1, as one search over the
+// whole cdf would find it: the rows before the one found end at or below
+// u1, and the row found ends above it.
 glm::vec3 LightGuide::sample(int h, float u1, float u2, float u3) const {
-    const auto first = cdf_.begin() + std::ptrdiff_t(h) * bins_.count();
-    const auto bin = std::upper_bound(first, first + bins_.count(), u1) - first;
-    return bins_.direction(int(std::min<std::ptrdiff_t>(bin, bins_.count() - 1)), u2, u3);
+    const std::ptrdiff_t n = bins_.n;
+    const auto rows = row_ends_.begin() + std::ptrdiff_t(h) * n;
+    const std::ptrdiff_t row = std::min<std::ptrdiff_t>(std::upper_bound(rows, rows + n, u1) - rows, n - 1);
+    const auto first = cdf_.begin() + std::ptrdiff_t(h) * bins_.count() + row * n;
+    const std::ptrdiff_t column = std::min<std::ptrdiff_t>(std::upper_bound(first, first + n, u1) - first, n - 1);
+    return bins_.direction(int(row * n + column), u2, u3);
 }
 
 float LightGuide::pdf(int h, const glm::vec3& w) const {
@@ -417,7 +426,7 @@ float LightGuide::pdf(int h, const glm::vec3& w) const {
 }
 
 std::size_t LightGuide::memory_bytes() const {
-    return slot_.size() * sizeof(std::int32_t) + (cdf_.size() + share_.size()) * sizeof(float);
+    return slot_.size() * sizeof(std::int32_t) + (cdf_.size() + row_ends_.size() + share_.size()) * sizeof(float);
 }
 
 }  // namespace jade

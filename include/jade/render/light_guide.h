@@ -92,6 +92,10 @@ private:
     std::array<int, 3> dims_{0, 0, 0};
     std::vector<std::int32_t> slot_;  // per grid cell and chain: its histogram, or −1
     std::vector<float> cdf_;          // per histogram, bins_.count() cumulative shares (last 1)
+    // Per histogram, the cumulative share at the end of each row of bins
+    // (bins_.n values, contiguous): sample() searches these first and then
+    // one row, a few cache lines instead of a search over the whole cdf.
+    std::vector<float> row_ends_;
     std::vector<float> share_;        // per histogram, share()
 };
 
