@@ -53,12 +53,8 @@ TEST_CASE("the guided one-refraction estimator integrates the refracted light wi
     const TriangleMesh sphere = icosphere(4, 1.f);
     const MeshAccel accel(sphere);
     const HomogeneousMedium medium(Spectrum(0.5f), Spectrum(0.2f));
-    Scene s;
-    s.boundary = &accel;
-    s.medium = &medium;
-    s.interface.mode = BoundaryMode::Split;
+    Scene s = jade_test::basic_scene(accel, &medium, BoundaryMode::Split, Spectrum(0.f));
     s.light = DirectionalLight({0.3f, 0.8f, 0.5f}, 3.f, 20.f);
-    s.fit_ray_epsilon();
     const auto guide = std::make_shared<const LightGuide>(s, 1);
     REQUIRE_FALSE(guide->empty());
     PathCounters counters;

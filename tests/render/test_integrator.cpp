@@ -32,15 +32,7 @@ const TriangleMesh& sphere() {  // the unit icosphere of the reference scenes
     return m;
 }
 
-Scene basic_scene(const MeshAccel& accel, const Medium* medium, BoundaryMode mode, Spectrum env) {
-    Scene s;
-    s.boundary = &accel;
-    s.medium = medium;
-    s.interface.mode = mode;
-    s.environment = Environment(env);
-    s.fit_ray_epsilon();
-    return s;
-}
+using jade_test::basic_scene;
 
 PinholeCamera camera_at(glm::vec3 origin, glm::vec3 target, float fov, int size,
                         glm::vec3 up = {0, 1, 0}) {

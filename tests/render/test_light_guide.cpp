@@ -25,12 +25,8 @@ namespace {
 
 
 Scene guide_scene(const MeshAccel& accel, const Medium& medium, const glm::vec3& toward_light, float radius) {
-    Scene s;
-    s.boundary = &accel;
-    s.medium = &medium;
-    s.interface.mode = BoundaryMode::Split;
+    Scene s = jade_test::basic_scene(accel, &medium, BoundaryMode::Split, Spectrum(0.f));
     s.light = DirectionalLight(toward_light, 3.f, radius);
-    s.fit_ray_epsilon();
     return s;
 }
 

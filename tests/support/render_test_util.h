@@ -1,8 +1,10 @@
 #pragma once
-// Helpers for the rendering tests: a box mesh, and statistical comparison of
-// a film with an expected image using both images' per-pixel variance.
+// Helpers for the rendering tests: a box mesh, a scene around a medium, and
+// statistical comparison of a film with an expected image using both
+// images' per-pixel variance.
 
 #include "jade/render/film.h"
+#include "jade/render/scene.h"
 #include "jade/io/image_io.h"
 #include "jade/geometry/mesh.h"
 
@@ -12,6 +14,19 @@
 #include <vector>
 
 namespace jade_test {
+
+// The object `accel` filled with `medium` behind a boundary of `mode`,
+// under a constant environment `env`; the light is the caller's.
+inline jade::Scene basic_scene(const jade::MeshAccel& accel, const jade::Medium* medium, jade::BoundaryMode mode,
+                               jade::Spectrum env) {
+    jade::Scene s;
+    s.boundary = &accel;
+    s.medium = medium;
+    s.interface.mode = mode;
+    s.environment = jade::Environment(env);
+    s.fit_ray_epsilon();
+    return s;
+}
 
 // A 64 × 32 lat-long HDR sky: a dim gradient, a black band over the last
 // rows, a sun of sun_size² texels at `sun` times the sky's brightness
