@@ -21,16 +21,16 @@ constexpr float kManifoldBelowDegrees = 10.f;
 // (0.0077 against 0.0083).
 constexpr float kGuidedManifoldBelowDegrees = 4.f;
 // From this angular radius on, `auto` draws most one-refraction directions
-// from the guide (kWideDiscGuideShare, against half below): the disc's
+// from the guide (kWideDiscGuideShare, against half below it): the disc's
 // preimage inside (its radius over the index of refraction, about 9° here)
 // then spans more than one of the guide's 8.5° bins, so the guide draws it
 // well, and the cone's samples, each needing a probe ray, add less. The
 // cone keeps a fifth: its density is a floor inside the cone for the paths
-// that meet the light by themselves (with the guide alone their share of
-// the variance grew fourfold). On the demo at equal time (256², 30 s, seed
-// pairs 1–2, 3–4, 5–6) the relative MSE was 7.5 % lower at 20°, 3 % lower
-// at 15°; at 10° it was 6 % higher, at 5° the same (docs/design.md,
-// "Light guide").
+// that meet the light by themselves (with the guide alone the second
+// moment of their light grew fourfold). On the demo at equal time (256²,
+// 30 s, seed pairs 1–2, 3–4, 5–6) the relative MSE was 7.5 % lower at 20°,
+// 3 % lower at 15°; at 10° it was 6 % higher, at 5° the same
+// (docs/design.md, "Light guide").
 constexpr float kWideDiscFromDegrees = 15.f;
 constexpr float kWideDiscGuideShare = 0.8f;
 }  // namespace
@@ -124,7 +124,7 @@ LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettin
             const bool wide = settings.light_through_boundary == LightThroughBoundary::Auto &&
                               scene.light.angular_radius_degrees() >= kWideDiscFromDegrees;
             one = std::make_unique<GuidedEstimator>(scene, SpecularChain::Refraction, guide, std::move(one),
-                                                    wide ? kWideDiscGuideShare : 0.5f);
+                                                    wide ? kWideDiscGuideShare : GuidedEstimator::kHalfShare);
             if (settings.light_chain != LightChain::One)
                 two = std::make_unique<GuidedEstimator>(scene, SpecularChain::ReflectionRefraction, guide,
                                                         std::move(two));

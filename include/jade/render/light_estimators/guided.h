@@ -16,9 +16,9 @@
 // comes in by another face (under a vase's rim, lit through its top) is
 // reached as well. A wide disc's preimage spans several of the guide's
 // bins, and the guide then takes most of the samples (docs/design.md,
-// "Light guide"). To the integrator it is one estimator: its density, the mixture's,
-// is known for every path of the chain, so the paths that meet the light by
-// themselves are weighed against it by MIS as before.
+// "Light guide"). To the integrator it is one estimator: its density, the
+// mixture's, is known for every path of the chain, so the paths that meet
+// the light by themselves are weighed against it by MIS as before.
 
 #include "jade/render/light_estimator.h"
 #include "jade/render/light_guide.h"
@@ -29,12 +29,18 @@ namespace jade {
 
 class GuidedEstimator final : public LightEstimator {
 public:
+    // The guide's share of the samples where another estimator covers the
+    // chain too, unless told otherwise. Half: where the other aims well,
+    // its half keeps most of its strength, and where it misses, the
+    // guide's half finds the light.
+    static constexpr float kHalfShare = 0.5f;
+
     // The estimator of scene.light along `chain` (not None) from `guide`,
     // that light's guide, mixed with `other` (null: none), an estimator of
     // the same light and chain, which draws 1 − guide_share of the samples
     // (guide_share in (0, 1]) and all of them where the guide has none.
     GuidedEstimator(const Scene& scene, SpecularChain chain, std::shared_ptr<const LightGuide> guide,
-                    std::unique_ptr<LightEstimator> other, float guide_share = 0.5f);
+                    std::unique_ptr<LightEstimator> other, float guide_share = kHalfShare);
     std::optional<LightSample> sample(const glm::vec3& p, float u1, float u2, SampleStream& rng,
                                       PathCounters& counters) const override;
     float pdf(const PathToLight& path, PathCounters& counters) const override;
