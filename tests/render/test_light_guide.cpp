@@ -163,11 +163,15 @@ TEST_CASE("the guide is a normalised density that the threads do not change and 
     CHECK(LightGuide(delta, 3).empty());
 }
 
-TEST_CASE("the guide's rays follow the render's camera samples: one per 64 between 2^18 and 2^20",
+TEST_CASE("the guide's rays follow the render's camera samples: one per 64 between 2^18 and 2^20 and at most one per 4",
           "[light-guide]") {
     CHECK(light_guide_photons(128.0 * 128.0 * 256.0) == 1u << 18);  // a fitting render: the fewest
     CHECK(light_guide_photons(256.0 * 256.0 * 512.0) == 1u << 19);
     CHECK(light_guide_photons(512.0 * 512.0 * 256.0) == 1u << 20);  // the demo's final render
     CHECK(light_guide_photons(4096.0 * 4096.0 * 1e6) == 1u << 20);  // a time-limited render's cap
-    CHECK(light_guide_photons(0.0) == 1u << 18);
+    // A small render: at most one ray per 4 camera samples, never below 2^12.
+    CHECK(light_guide_photons(64.0 * 64.0 * 256.0) == 1u << 18);
+    CHECK(light_guide_photons(32.0 * 32.0 * 256.0) == 1u << 16);
+    CHECK(light_guide_photons(24.0 * 20.0 * 37.0) == 4440u);
+    CHECK(light_guide_photons(0.0) == 1u << 12);
 }

@@ -52,8 +52,9 @@ struct LightGuideSettings {
 
 // The rays a guide traces for a render of `camera_samples` samples in all
 // (pixels × samples per pixel): one per 64, at least 2^18 and at most 2^20,
-// so that the guide is a small share of any render's time and a long render
-// has a finer one (docs/design.md, "Light guide").
+// but at most one per 4 camera samples (and at least 2^12), so that the
+// guide is a small share of any render's time and a long render has a finer
+// one (docs/design.md, "Light guide").
 std::uint32_t light_guide_photons(double camera_samples);
 
 class LightGuide {
