@@ -347,7 +347,7 @@ std::uint32_t light_guide_photons(double camera_samples) {
     // a camera path also estimates the light at every vertex): at most one
     // ray per 4 camera samples keeps a small render's guide under a sixth of
     // its time, where 2^18 rays took four fifths of a 24 × 20 image of 37
-    // spp. Never below 2^12: a guide of fewer rays leaves most cells dark.
+    // spp. 2^12 rays at the least, for renders of a few thousand samples.
     constexpr double kSamplesPerRayAtMost = 4.0, kFloor = 1u << 12;
     const double fewest = std::clamp(camera_samples / kSamplesPerRayAtMost, kFloor, kFewest);
     return std::uint32_t(std::clamp(camera_samples / kSamplesPerRay, fewest, kMost));
