@@ -608,16 +608,17 @@ int run_pipeline(PipelineFlags& p) {
     char goal[96];
     std::snprintf(goal, sizeof goal, contrast ? "|dA| < %g and |dS| < %g in every channel" : "|dA| < %g in every channel",
                   fit.limits.tolerance, o.fit.s_tolerance);
-    std::printf("fit (%s): %zu renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
+    std::printf("fit (%s): %d renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
                 "(%.3f, %.3f, %.3f); %s\n",
-                p.fit.c_str(), fit.records.size(), fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
+                p.fit.c_str(), fit.renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
                 fit.ks[2], fit.contrast[0], fit.contrast[1], fit.contrast[2],
                 fit.converged ? goal : "NOT converged (see the warnings)");
     if (contrast)
         std::printf("  S_material (the render's spread less its shading and noise): (%.1f, %.1f, %.1f); the photo's "
-                    "S at the fitting renders' scale: (%.1f, %.1f, %.1f); density scale %.4g (from %.4g)\n",
-                    fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.s_photo[0], fit.s_photo[1],
-                    fit.s_photo[2], fit.density_scale, fit.density_scale_start);
+                    "S at the same scale (%d px blocks of the final render): (%.1f, %.1f, %.1f); density scale %.4g "
+                    "(from %.4g)\n",
+                    fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.material_block, fit.s_photo[0],
+                    fit.s_photo[1], fit.s_photo[2], fit.density_scale, fit.density_scale_start);
     if (best)
         std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
                     "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",

@@ -179,7 +179,7 @@ std::string pipeline_report(const PipelineReport& in) {
     if (res.structure_estimated) j["structure"] = structure_json(res);
     std::array<std::string, 3> status;
     for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);
-    j["fit"] = {{"method", to_string(o.fit.method)}, {"renders", fit.records.size()},
+    j["fit"] = {{"method", to_string(o.fit.method)}, {"renders", fit.renders},
                 {"max_renders", o.fit.max_renders}, {"spp", fit.spp}, {"width", fit.width},
                 {"height", fit.height}, {"noise_target", o.fit.noise}, {"error_target", o.fit.error},
                 {"estimated_relative_error", fit.estimated_error}, {"exposure", fit.exposure},
@@ -189,8 +189,8 @@ std::string pipeline_report(const PipelineReport& in) {
                 {"contrast", fit.contrast}, {"density_scale_start", fit.density_scale_start},
                 {"density_scale", fit.density_scale}, {"converged", fit.converged}, {"channel_status", status}};
     if (o.fit.method == FitMethod::Contrast)
-        j["fit"]["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_fitting_scale", fit.s_photo},
-                         {"material", fit.s_material}};
+        j["fit"]["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
+                         {"material", fit.s_material}, {"material_block", fit.material_block}};
     if (!fit.records.empty()) {
         // The fitting render at the chosen k_s (the best per channel may come from different renders).
         std::array<double, 3> delta{}, dist{};

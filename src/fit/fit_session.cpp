@@ -82,6 +82,10 @@ void FitOptions::validate() const {
 
 namespace {
 
+// The fewest samples per pixel of a render at the final size for S_material,
+// 8 in each half.
+constexpr int kMinSpreadSpp = 16;
+
 // The share of a channel's object pixels at one end of the 8-bit range
 // above which the channel counts as clipped.
 constexpr double kClippedShare = 0.5;
@@ -100,7 +104,10 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
                          options.k_max)),
       camera_(at_width(camera, fitting_width(camera, options))), settings_(settings),
       photo_histogram_(RgbHistogram::of(photo.foreground_levels())), photo_spectrum_(photo_spectrum(photo)),
-      pixels_per_side_(render_pixels_per_side(at_width(camera, fitting_width(camera, options)), volume.cube)) {
+      pixels_per_side_(render_pixels_per_side(at_width(camera, fitting_width(camera, options)), volume.cube)),
+      spread_at_final_size_(fitting_width(camera, options) < camera.width),
+      spread_camera_(spread_at_final_size_ ? PinholeCamera(camera) : camera_),
+      spread_pixels_per_side_(spread_at_final_size_ ? render_pixels_per_side(camera, volume.cube) : pixels_per_side_) {
     options_.validate();
     settings_.time_limit = 0;
     settings_.target_error = 0;
@@ -144,11 +151,12 @@ RenderResult FitSession::render_at(const std::array<double, 3>& ks, const std::a
     });
 }
 
-// The fitting render at ks and contrast (its sample count already chosen)
+// A render at ks and contrast through `camera` with `spp` samples per pixel,
 // in two independent halves, for S_material's noise estimate.
-SplitFilms FitSession::split_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast) {
-    SplitFilms films = with_medium(ks, contrast, outcome_.spp, [&](const Scene& scene, const RenderSettings& settings) {
-        return render_halves(scene, camera_, settings);
+SplitFilms FitSession::split_render(const PinholeCamera& camera, const std::array<double, 3>& ks,
+                                    const std::array<double, 3>& contrast, int spp) {
+    SplitFilms films = with_medium(ks, contrast, spp, [&](const Scene& scene, const RenderSettings& settings) {
+        return render_halves(scene, camera, settings);
     });
     if (progress_) progress_->advance();
     return films;
@@ -251,7 +259,7 @@ FitOutcome FitSession::run(Progress* progress) {
     FitDriver driver(options_.method, outcome_.ks_start, limits_);
     if (bisects(options_.method) || (fitting && outcome_.exposure_matched)) bracket(driver);
     // --fit contrast keeps renders for at least two of its steps.
-    const int k_renders = options_.max_renders - (options_.method == FitMethod::Contrast ? 4 : 0);
+    const int k_renders = options_.max_renders - (options_.method == FitMethod::Contrast ? 2 * step_cost() : 0);
     while (fitting && !driver.done() && fitting_renders() < k_renders) {
         const std::array<double, 3> ks = driver.k();
         const RenderResult r = fitting_render(ks, g);
@@ -266,6 +274,7 @@ FitOutcome FitSession::run(Progress* progress) {
     finish(driver);
     if (options_.method == FitMethod::Contrast) fit_contrast();
     if (fitting) mark_clipped_channels();
+    outcome_.renders = fitting_renders();
     outcome_.seconds = clock_.seconds();
     progress_ = nullptr;
     return outcome_;
@@ -338,7 +347,19 @@ const FitRecord* FitSession::final_record(int c) const {
     return nullptr;
 }
 
-int FitSession::fitting_renders() const { return int(outcome_.records.size()); }
+// The renders at the final size take as many samples per image as a
+// fitting render (16 per pixel where that has 256 at a quarter of the
+// width), so each costs about as much. The noise this leaves (on Onyx010
+// 13–21 levels against S of 27–36) is taken out by the halves' covariance
+// (material_spread) and widens only S's own scatter.
+int FitSession::spread_spp() const {
+    if (!spread_at_final_size_) return outcome_.spp;
+    const double pixel_ratio = double(camera_.width()) * camera_.height() /
+                               (double(spread_camera_.width()) * spread_camera_.height());
+    return std::max(kMinSpreadSpp, int(std::lround(outcome_.spp * pixel_ratio)));
+}
+
+int FitSession::fitting_renders() const { return int(outcome_.records.size()) + spread_renders_; }
 
 namespace {
 // The most fitting renders the brightness check takes to move k_s.
@@ -472,29 +493,72 @@ struct FitSession::ContrastSearch {
     double alpha = kDensityExponent;
 };
 
+// One step of --fit contrast at (k_s, g): the volume and its mean medium
+// (contrast 0: the shading) in two halves each through the spread camera,
+// for S_material, and the volume at the fitting size, for A (the merged
+// halves where the spread camera is the fitting renders' own; its shading
+// render is then a row of fit.csv). The renders at the final size are not
+// rows of fit.csv: A, D and the structure there would not compare with the
+// fitting renders'. A fitting render at the same k_s, contrast and density
+// scale as one made before (the first step's, at the k_s search's result)
+// would be the same image: that render's record serves instead.
+struct FitSession::StepRenders {
+    SplitFilms shading, render;
+    std::optional<Film> whole;  // none where an earlier record serves
+};
+
+FitRecord* FitSession::rendered_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast) {
+    for (FitRecord& r : outcome_.records)
+        if (!r.shading && r.ks == ks && r.contrast == contrast && r.density_scale == density_scale_) return &r;
+    return nullptr;
+}
+
+FitSession::StepRenders FitSession::step_renders(const std::array<double, 3>& ks,
+                                                 const std::array<double, 3>& contrast) {
+    StepRenders r{split_render(spread_camera_, ks, {0.0, 0.0, 0.0}, spread_spp()),
+                  split_render(spread_camera_, ks, contrast, spread_spp()), {}};
+    if (spread_at_final_size_) {
+        if (!rendered_at(ks, contrast)) r.whole = fitting_render(ks, contrast).film;
+        spread_renders_ += 2;
+    } else {
+        r.whole = r.render.merged();
+        record(ks, {0.0, 0.0, 0.0}, r.shading.merged()).shading = true;
+    }
+    return r;
+}
+
 // --fit contrast, after k_s matched A: k_s and the contrast g_c together
 // until A and S_material match in every channel (docs/design.md,
 // "Contrast"). Each step renders the mean medium (contrast 0: the shading)
-// and the volume at (k_s, g), both at the fitting renders' random numbers;
-// g moves S_material towards the photo's S (next_contrast), k_s moves A back
-// by Newton's step with the slope measured by the k_s search. The channels
-// are independent (one render serves all three); a channel stops when both
-// |ΔA| < 1 and |ΔS| < s_tolerance, and keeps the best (k_s, g) it saw.
-// Where a channel would need a contrast above kContrastCeiling, the density
-// scale (shared by the channels) rises instead (raise_density_scale).
+// and the volume at (k_s, g), both at the fitting renders' random numbers
+// (step_renders); g moves S_material towards the photo's S at the same
+// scale (next_contrast), k_s moves A back by Newton's step with the slope
+// measured by the k_s search. The channels are independent (one render
+// serves all three); a channel stops when both |ΔA| < 1 and
+// |ΔS| < s_tolerance, and keeps the best (k_s, g) it saw. Where a channel
+// would need a contrast above kContrastCeiling, the density scale (shared
+// by the channels) rises instead (raise_density_scale).
 void FitSession::fit_contrast() {
     ContrastSearch st;
     st.k = outcome_.ks;
     st.g = outcome_.contrast_start;
     st.slope = brightness_slopes();
-    const int block = material_block(outcome_.estimated_error);
-    const std::array<double, 3> s_photo = photo_spread(photo_, pixels_per_side_ / block);
-    while (fitting_renders() + 2 <= options_.max_renders) {
-        const SplitFilms shading = split_render(st.k, {0.0, 0.0, 0.0});
-        record(st.k, {0.0, 0.0, 0.0}, shading.merged()).shading = true;
-        const SplitFilms r = split_render(st.k, st.g);
-        const MaterialSpread spread = material_spread(r, shading, outcome_.exposure, block);
-        FitRecord& rec = record(st.k, st.g, r.merged());
+    int block = material_block(outcome_.estimated_error);
+    std::array<double, 3> s_photo = photo_spread(photo_, spread_pixels_per_side_ / block);
+    bool block_chosen = !spread_at_final_size_;
+    while (fitting_renders() + step_cost() <= options_.max_renders) {
+        const StepRenders step = step_renders(st.k, st.g);
+        if (!block_chosen) {
+            block_chosen = true;
+            // The block the final render's noise will allow: material_block
+            // of its expected error, this render's at the final sample count.
+            const double error = step.render.merged().estimated_relative_error() *
+                                 std::sqrt(double(spread_spp()) / double(std::max(1, settings_.spp)));
+            block = material_block(error);
+            s_photo = photo_spread(photo_, spread_pixels_per_side_ / block);
+        }
+        const MaterialSpread spread = material_spread(step.render, step.shading, outcome_.exposure, block);
+        FitRecord& rec = step.whole ? record(st.k, st.g, *step.whole) : *rendered_at(st.k, st.g);
         rec.s_material = spread.s;
         rec.s_material_noise = spread.noise;
         rec.s_photo_scaled = s_photo;
@@ -509,7 +573,8 @@ void FitSession::fit_contrast() {
         st.have_prev = true;
         if (all_done) break;
         // A step in density scale needs two more steps to be judged.
-        if (options_.fit_density && fitting_renders() + 4 <= options_.max_renders) raise_density_scale(st, s_photo);
+        if (options_.fit_density && fitting_renders() + 2 * step_cost() <= options_.max_renders)
+            raise_density_scale(st, s_photo);
     }
     outcome_.s_photo = s_photo;
     outcome_.material_block = block;

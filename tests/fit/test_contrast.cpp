@@ -10,6 +10,7 @@
 #include "jade/fit/fit_session.h"
 #include "jade/geometry/mesh.h"
 #include "jade/geometry/mesh_accel.h"
+#include "jade/render/media/grid.h"
 #include "support/fit_test_scene.h"
 
 #include <catch2/catch.hpp>
@@ -209,42 +210,6 @@ TEST_CASE("material block: the side over which a render's noise averages to 0.1"
     CHECK(material_block(3.0) == 8);
 }
 
-TEST_CASE("contrast fit: a render at a known k_s and contrast, fitted from (0, 1), gives both back",
-          "[fitter][contrast][fit-session]") {
-    test::FitTestScene t(test::ramp_photo(40, 190, 20), 48);
-    const Scene& scene = t.scene;
-    const CameraParams& camera = t.camera;
-    const MaterialVolume& volume = t.volume;
-    RenderSettings settings;
-
-    const std::array<double, 3> k_true{0.5, 0.3, 0.1}, g_true{2.5, 1.6, 3.2};
-    const float exposure = 4.f;
-    FitOptions make;
-    make.width = camera.width;
-    make.exposure = exposure;
-    // S is measured over blocks of pixels (material_block), where 512
-    // samples leave the photo's S within 0.1 level of 2048 samples'.
-    const Photo photo = flat_photo(t, volume, make, k_true, g_true, 512);
-
-    FitOptions options = make;
-    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
-    options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
-    options.spp = 256;
-    options.max_renders = 24;
-    FitSession session(volume, scene, camera, settings, photo, options);
-    const FitOutcome out = session.run();
-    INFO("k_s " << out.ks[0] << ", " << out.ks[1] << ", " << out.ks[2] << "; contrast " << out.contrast[0] << ", "
-                << out.contrast[1] << ", " << out.contrast[2] << " in " << out.records.size() << " renders; S "
-                << out.s_material[0] << ", " << out.s_material[1] << ", " << out.s_material[2] << " against "
-                << out.s_photo[0] << ", " << out.s_photo[1] << ", " << out.s_photo[2]);
-    REQUIRE(out.converged);
-    CHECK(out.records.size() <= 24);
-    for (int c = 0; c < 3; ++c) {
-        CHECK(std::abs(out.contrast[c] - g_true[c]) < 0.2 * g_true[c]);
-        CHECK(std::abs(out.ks[c] - k_true[c]) < 0.15);
-    }
-}
-
 TEST_CASE("contrast fit: where the contrast would clip many voxels, the density scale rises instead",
           "[fitter][contrast][fit-session]") {
     test::FitTestScene t(test::ramp_photo(40, 190, 20), 32);
@@ -304,4 +269,77 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
     CHECK(kept.density_scale == start);
     CHECK(most > 4.0);
     CHECK(most > *std::max_element(out.contrast.begin(), out.contrast.end()));
+}
+
+TEST_CASE("contrast fit: a render at a known k_s and contrast fitted from (0 1) at half its width gives both back",
+          "[fitter][contrast][fit-session]") {
+    // The "photo" is the volume at a known k_s and contrast, flattened, at
+    // the final camera's 48². The fit renders A at 24² and S_material at
+    // 48² (as many samples per image: 64 per pixel against 256); its target
+    // is the photo's S over blocks of the final render's pixels, and the
+    // fitted material, measured by the final measurement's own renders
+    // (another seed), has the photo's spread there.
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 48);
+    RenderSettings settings;
+    const std::array<double, 3> k_true{0.5, 0.3, 0.1}, g_true{2.5, 1.6, 3.2};
+    FitOptions make;
+    make.width = t.camera.width;
+    make.exposure = 4.f;
+    const Photo photo = flat_photo(t, t.volume, make, k_true, g_true, 512);
+
+    FitOptions options = make;
+    options.width = 24;
+    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
+    options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
+    options.spp = 256;
+    FitSession session(t.volume, t.scene, t.camera, settings, photo, options);
+    const FitOutcome out = session.run();
+    INFO("k_s " << out.ks[0] << ", " << out.ks[1] << ", " << out.ks[2] << "; contrast " << out.contrast[0] << ", "
+                << out.contrast[1] << ", " << out.contrast[2] << " in " << out.renders << " renders; S "
+                << out.s_material[0] << ", " << out.s_material[1] << ", " << out.s_material[2] << " against "
+                << out.s_photo[0] << ", " << out.s_photo[1] << ", " << out.s_photo[2] << " in "
+                << out.material_block << " px blocks; " << out.reason[0] << out.reason[1] << out.reason[2]);
+    REQUIRE(out.converged);
+    CHECK(out.width == 24);
+    CHECK(out.renders <= options.max_renders);
+    // Two renders at 64² a step are counted, and are not rows of fit.csv.
+    CHECK(out.renders > int(out.records.size()));
+    for (const FitRecord& r : out.records) CHECK_FALSE(r.shading);
+    const double final_pixels_per_side = render_pixels_per_side(t.camera, t.volume.cube);
+    const std::array<double, 3> target = photo_spread(photo, final_pixels_per_side / out.material_block);
+    for (int c = 0; c < 3; ++c) CHECK(out.s_photo[c] == target[c]);
+
+    // A at 48² is not A at 24² (sRGB is concave): k_s as the brightness
+    // check at the final size leaves it, as the pipeline does.
+    const FitSession::FinalBrightness check = session.final_brightness(t.camera, 64);
+    // The final measurement at 48²: the fitted volume and its mean medium in
+    // two halves each, at the photo's exposure.
+    OpticalParams fitted = t.volume.optics;
+    fitted.ks = check.ks;
+    fitted.contrast = out.contrast;
+    fitted.density_scale = out.density_scale;
+    OpticalParams mean_medium = fitted;
+    mean_medium.contrast = {0.0, 0.0, 0.0};
+    const MaterialVolumeMedium material(t.volume, t.volume.cube, fitted);
+    const MaterialVolumeMedium shading(t.volume, t.volume.cube, mean_medium, material.majorant());
+    RenderSettings measure;
+    measure.spp = 256;
+    measure.seed = 7;
+    Scene scene = t.scene;
+    scene.medium = &material;
+    const SplitFilms r = render_halves(scene, PinholeCamera(t.camera), measure);
+    scene.medium = &shading;
+    const SplitFilms s = render_halves(scene, PinholeCamera(t.camera), measure);
+    const MaterialAppearance m = compare_material(photo, r, s, make.exposure, final_pixels_per_side);
+    INFO("k_s after the brightness check " << check.ks[0] << ", " << check.ks[1] << ", " << check.ks[2]
+                                           << "; measured at 48²: S " << m.s_material[0] << ", " << m.s_material[1] << ", " << m.s_material[2]
+                               << " against the photo's " << m.s_photo[0] << ", " << m.s_photo[1] << ", "
+                               << m.s_photo[2] << " in " << m.block << " px blocks");
+    for (int c = 0; c < 3; ++c) {
+        // The fit's tolerance of 1.5 levels, and the two measurements' own
+        // scatter (covariances of two halves over about 850 blocks).
+        CHECK(std::abs(m.s_material[c] - m.s_photo[c]) < options.s_tolerance + 1.0);
+        CHECK(std::abs(out.contrast[c] - g_true[c]) < 0.2 * g_true[c]);
+        CHECK(std::abs(check.ks[c] - k_true[c]) < 0.15);
+    }
 }

@@ -5,7 +5,8 @@
 // need, renders at both k_s bounds that bracket the search and fix the
 // exposure, a driver that moves each channel's k_s until A matches, then
 // (--fit contrast) a joint search of k_s and the contrast g_c until A and
-// S_material match, and an outcome with each channel's state.
+// S_material match (S_material measured at the final render's size), and an
+// outcome with each channel's state.
 //
 // Fitting renders leave the background out (only the object's pixels
 // count), render a reduced image with the same random sequence every time,
@@ -77,10 +78,11 @@ struct FitOutcome {
     // The density scale fitted (--fit contrast; the volume's own otherwise)
     // and the volume's own, where the fit started.
     double density_scale = 0.0, density_scale_start = 0.0;
-    // S_material and the photo's S at the fitting scale at the chosen k_s and
-    // contrast (--fit contrast only; -1 otherwise).
+    // S_material and the photo's S at the same scale (the final render's
+    // pixels, in blocks of material_block) at the chosen k_s and contrast
+    // (--fit contrast only; -1 otherwise).
     std::array<double, 3> s_material{-1, -1, -1}, s_photo{-1, -1, -1};
-    int material_block = 0;               // pixels per side of the blocks S_material is taken over
+    int material_block = 0;               // final-render pixels per side of the blocks S_material is taken over
     std::array<ChannelState, 3> state{};
     std::array<std::string, 3> reason;    // why a channel stopped unconverged
     bool converged = false;
@@ -88,6 +90,9 @@ struct FitOutcome {
     bool exposure_matched = false;
     FitLimits limits;
     std::vector<FitRecord> records;
+    // Fitting renders made: the records, and --fit contrast's renders at the
+    // final size for S_material (FitSession::spread_spp), two a step.
+    int renders = 0;
     int spp = 0, width = 0, height = 0;   // of the fitting renders
     // dA/dk_s per channel near the fitted k_s (gray levels per unit), as the
     // fit last measured it; 0 when it measured none.
@@ -130,7 +135,13 @@ public:
 
 private:
     RenderResult fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
-    SplitFilms split_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
+    SplitFilms split_render(const PinholeCamera& camera, const std::array<double, 3>& ks,
+                            const std::array<double, 3>& contrast, int spp);
+    int spread_spp() const;
+    struct StepRenders;
+    StepRenders step_renders(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
+    FitRecord* rendered_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
+    int step_cost() const { return spread_at_final_size_ ? 3 : 2; }
     template <class How>
     auto with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
                      How how) const;
@@ -164,6 +175,16 @@ private:
     RgbHistogram photo_histogram_;
     TextureSpectrum photo_spectrum_;
     double pixels_per_side_;   // of the fitting renders, where the object stands
+    // --fit contrast measures S_material where a person sees it: at the
+    // final render's size, through its camera, with as many samples per
+    // image as a fitting render (spread_spp). Transport blurs structure
+    // finer than a mean free path, and the material matched in the fitting
+    // renders' 4× larger pixels was 5–7 levels short of the photo's spread
+    // at the final render's scale (docs/design.md, "Contrast").
+    bool spread_at_final_size_;      // the final camera is larger than the fitting renders'
+    PinholeCamera spread_camera_;
+    double spread_pixels_per_side_;  // of spread_camera_
+    int spread_renders_ = 0;         // renders at the final size (two a step; not rows of fit.csv)
     // The density scale of the fitting renders and the majorant they share
     // (that of k_s = k_max at every contrast, at this density scale).
     double density_scale_;
