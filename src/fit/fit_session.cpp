@@ -65,8 +65,9 @@ void FitOptions::validate() const {
     if (max_renders < 2 && (bisects(method) || exposure == 0.f))
         throw Error("--fit-max-renders must be at least 2: the fit starts with renders at both k_s bounds");
     if (method == FitMethod::Contrast && max_renders < 6)
-        throw Error("--fit-max-renders must be at least 6 with --fit contrast: 2 at the k_s bounds, then a "
-                    "render and its shading render per step");
+        throw Error("--fit-max-renders must be at least 6 with --fit contrast: 2 at the k_s bounds, then steps "
+                    "of a render and its shading render (and a render at the fitting size when S is measured at "
+                    "the final one)");
     if (!(s_tolerance > 0)) throw Error("the S tolerance must be positive");
     if (contrast_start)
         for (double g : *contrast_start)
