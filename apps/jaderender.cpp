@@ -627,10 +627,10 @@ int run_pipeline(PipelineFlags& p) {
                     best->a_sigma[1], best->a_sigma[2]);
     const jade::PassRecord& last = r.final_render.passes.back();
     if (const auto& b = r.brightness_check) {
-        std::printf("brightness check, %d spp in %.1f s: A at full size less A at the fitting size (%+.2f, %+.2f, "
-                    "%+.2f), so dA (%+.2f, %+.2f, %+.2f) expected",
-                    b->spp, b->seconds, b->size_change[0], b->size_change[1], b->size_change[2], b->delta[0],
-                    b->delta[1], b->delta[2]);
+        std::printf("brightness check in %.1f s, A at full size from the %s renders at %d spp: A at full size less A "
+                    "at the fitting size (%+.2f, %+.2f, %+.2f), so dA (%+.2f, %+.2f, %+.2f) expected",
+                    b->seconds, b->from_fit ? "fit's" : "check's", b->spp, b->size_change[0], b->size_change[1],
+                    b->size_change[2], b->delta[0], b->delta[1], b->delta[2]);
         if (b->corrected())
             std::printf("; k_s corrected to (%.4f, %.4f, %.4f) (fitting renders: %d), dA (%+.2f, %+.2f, %+.2f) "
                         "expected\n",

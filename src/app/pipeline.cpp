@@ -113,16 +113,18 @@ MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScen
 }
 
 // At the final render's size A differs from the fitting renders'
-// (FitSession::final_brightness): measured at a quarter of the final
-// render's samples (at least 64); where a channel is off by more than the
-// tolerance, its k_s moves before the final render.
-void check_final_brightness(const PipelineOptions& o, const PreparedScene& prep, const FitSession& session,
-                            MaterialVolume& volume, PipelineResult& res) {
+// (FitSession::final_brightness): taken from --fit contrast's renders at that
+// size, or else measured at a quarter of the final render's samples (at
+// least 64); where a channel is foreseen off by 0.4 of the tolerance or
+// more, its k_s moves before the final render.
+void check_final_brightness(const PipelineOptions& o, const FitSession& session, MaterialVolume& volume,
+                            PipelineResult& res) {
     const Stopwatch clock;
     BrightnessCheck check;
-    check.spp = std::max(64, o.render.settings.spp / 4);
-    const FitSession::FinalBrightness f = session.final_brightness(prep.camera, check.spp);
+    const FitSession::FinalBrightness f = session.final_brightness(std::max(64, o.render.settings.spp / 4));
     check.seconds = clock.seconds();
+    check.spp = f.spp;
+    check.from_fit = f.from_fit;
     check.delta = f.delta;
     check.size_change = f.size_change;
     check.expected = f.expected;
@@ -262,7 +264,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     volume.exposure = res.fit.exposure;
 
     clock = Stopwatch();
-    if (o.final_match && o.fit.method != FitMethod::None) check_final_brightness(o, *prep, session, volume, res);
+    if (o.final_match && o.fit.method != FitMethod::None) check_final_brightness(o, session, volume, res);
     res.seconds_check = clock.seconds();
     clock = Stopwatch();
     res.final_render = final_render(o, *prep, MaterialVolumeMedium(volume, volume.cube), "final render");

@@ -216,7 +216,8 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"sphere_walks", res.final_render.counters.sphere_walks},
                          {"A_render", in.final_stats.a}};
     if (const auto& b = res.brightness_check)
-        j["brightness_check"] = {{"spp", b->spp}, {"seconds", b->seconds}, {"A_size_change", b->size_change},
+        j["brightness_check"] = {{"A_full_size_from", b->from_fit ? "fit renders" : "check renders"},
+                                 {"spp", b->spp}, {"seconds", b->seconds}, {"A_size_change", b->size_change},
                                  {"delta_A", b->delta}, {"fitting_renders", b->renders},
                                  {"delta_A_expected", b->expected},
                                  {"ks_before", b->ks_before}, {"ks", b->ks_after}, {"corrected", b->corrected()}};

@@ -67,6 +67,15 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
     return s;
 }
 
+std::array<double, 3> extrapolated_brightness(const SplitFilms& render, float exposure) {
+    const DisplayStatistics whole = display_statistics(render.merged(), exposure);
+    const DisplayStatistics first = display_statistics(render.first, exposure);
+    const DisplayStatistics second = display_statistics(render.second, exposure);
+    std::array<double, 3> a{};
+    for (int c = 0; c < 3; ++c) a[c] = 2.0 * whole.a[c] - 0.5 * (first.a[c] + second.a[c]);
+    return a;
+}
+
 double level_slope(double linear) {
     if (linear >= 1.0) return 0.0;
     const double h = 1e-3;

@@ -107,7 +107,7 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
       photo_histogram_(RgbHistogram::of(photo.foreground_levels())), photo_spectrum_(photo_spectrum(photo)),
       pixels_per_side_(render_pixels_per_side(at_width(camera, fitting_width(camera, options)), volume.cube)),
       spread_at_final_size_(fitting_width(camera, options) < camera.width),
-      spread_camera_(spread_at_final_size_ ? PinholeCamera(camera) : camera_),
+      final_camera_(camera),
       spread_pixels_per_side_(spread_at_final_size_ ? render_pixels_per_side(camera, volume.cube) : pixels_per_side_) {
     options_.validate();
     settings_.time_limit = 0;
@@ -356,7 +356,7 @@ const FitRecord* FitSession::final_record(int c) const {
 int FitSession::spread_spp() const {
     if (!spread_at_final_size_) return outcome_.spp;
     const double pixel_ratio = double(camera_.width()) * camera_.height() /
-                               (double(spread_camera_.width()) * spread_camera_.height());
+                               (double(spread_camera().width()) * spread_camera().height());
     return std::max(kMinSpreadSpp, int(std::lround(outcome_.spp * pixel_ratio)));
 }
 
@@ -365,12 +365,16 @@ int FitSession::fitting_renders() const { return int(outcome_.records.size()) + 
 namespace {
 // The most fitting renders the brightness check takes to move k_s.
 constexpr int kMaxBrightnessRenders = 3;
+// The check moves a channel whose ΔA at full size it foresees at this share
+// of the tolerance or more: the foresight itself errs by up to 0.5 levels
+// (docs/design.md, "The fit"), so a channel left just inside the tolerance
+// could end the final render outside it.
+constexpr double kBrightnessAim = 0.4;
 }  // namespace
 
-FitSession::FinalBrightness FitSession::final_brightness(const CameraParams& full, int spp) const {
+FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
     FinalBrightness f;
     f.ks = outcome_.ks;
-    const PinholeCamera full_camera(full);
     const auto look = [&](const PinholeCamera& camera, const std::array<double, 3>& ks, int samples) {
         const Film film = with_medium(ks, outcome_.contrast, samples,
                                       [&](const Scene& scene, const RenderSettings& settings) {
@@ -378,15 +382,25 @@ FitSession::FinalBrightness FitSession::final_brightness(const CameraParams& ful
                                       });
         return display_statistics(film, outcome_.exposure);
     };
-    const DisplayStatistics at_full = look(full_camera, f.ks, spp), at_fit = look(camera_, f.ks, spp);
-    if (at_full.pixels == 0 || at_fit.pixels == 0) return f;
     std::array<bool, 3> fitted{};
+    std::array<const FitRecord*, 3> at{};
+    f.from_fit = spread_at_final_size_;
     for (int c = 0; c < 3; ++c) {
-        const FitRecord* r = final_record(c);
-        fitted[c] = r && outcome_.brightness_slope[c] > 0.0;
-        f.size_change[c] = at_full.a[c] - at_fit.a[c];
-        f.delta[c] = fitted[c] ? r->delta[c] + f.size_change[c] : 0.0;
+        at[c] = final_record(c);
+        fitted[c] = at[c] && outcome_.brightness_slope[c] > 0.0;
+        f.from_fit = f.from_fit && (!fitted[c] || at[c]->a_final_size[c] >= 0.0);
     }
+    if (f.from_fit) {
+        f.spp = spread_spp();
+        for (int c = 0; c < 3; ++c)
+            if (fitted[c]) f.size_change[c] = at[c]->a_final_size[c] - at[c]->a_render[c];
+    } else {
+        f.spp = spp;
+        const DisplayStatistics at_full = look(final_camera_, f.ks, spp), at_fit = look(camera_, f.ks, spp);
+        if (at_full.pixels == 0 || at_fit.pixels == 0) return f;
+        for (int c = 0; c < 3; ++c) f.size_change[c] = at_full.a[c] - at_fit.a[c];
+    }
+    for (int c = 0; c < 3; ++c) f.delta[c] = fitted[c] ? at[c]->delta[c] + f.size_change[c] : 0.0;
     f.expected = f.delta;
     // Secant steps at the fitting size toward A_photo − size_change, from
     // the fit's slope (a bisection's slope is a secant over the whole
@@ -396,7 +410,7 @@ FitSession::FinalBrightness FitSession::final_brightness(const CameraParams& ful
         std::array<double, 3> k = f.ks;
         bool moved = false;
         for (int c = 0; c < 3; ++c)
-            if (fitted[c] && std::abs(f.expected[c]) >= limits_.tolerance) {
+            if (fitted[c] && std::abs(f.expected[c]) >= kBrightnessAim * limits_.tolerance) {
                 k[c] = std::clamp(f.ks[c] - f.expected[c] / slope[c], k_min_at(c, outcome_.contrast[c]),
                                   limits_.k_max);
                 moved = moved || k[c] != f.ks[c];
@@ -516,8 +530,8 @@ FitRecord* FitSession::rendered_at(const std::array<double, 3>& ks, const std::a
 
 FitSession::StepRenders FitSession::step_renders(const std::array<double, 3>& ks,
                                                  const std::array<double, 3>& contrast) {
-    StepRenders r{split_render(spread_camera_, ks, {0.0, 0.0, 0.0}, spread_spp()),
-                  split_render(spread_camera_, ks, contrast, spread_spp()), {}};
+    StepRenders r{split_render(spread_camera(), ks, {0.0, 0.0, 0.0}, spread_spp()),
+                  split_render(spread_camera(), ks, contrast, spread_spp()), {}};
     if (spread_at_final_size_) {
         if (!rendered_at(ks, contrast)) r.whole = fitting_render(ks, contrast).film;
         spread_renders_ += 2;
@@ -563,6 +577,7 @@ void FitSession::fit_contrast() {
         rec.s_material = spread.s;
         rec.s_material_noise = spread.noise;
         rec.s_photo_scaled = s_photo;
+        if (spread_at_final_size_) rec.a_final_size = extrapolated_brightness(step.render, outcome_.exposure);
         bool all_done = true;
         st.g_last = st.g;
         st.s_last = spread.s;

@@ -53,6 +53,7 @@ struct PipelineOptions {
 // the check (the same where every channel was within the tolerance), the
 // ΔA expected at those, and the fitting renders the steps took.
 struct BrightnessCheck {
+    bool from_fit = false;  // A at full size from the fit's renders there (FitSession::FinalBrightness)
     int spp = 0, renders = 0;
     double seconds = 0.0;
     std::array<double, 3> size_change{}, delta{}, ks_before{}, ks_after{}, expected{};

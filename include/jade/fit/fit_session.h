@@ -64,6 +64,9 @@ struct FitRecord {
     std::array<double, 3> s_material{-1, -1, -1}, s_photo_scaled{-1, -1, -1};
     // The render noise's share taken out of S_material (MaterialSpread::noise).
     std::array<double, 3> s_material_noise{-1, -1, -1};
+    // A at the final render's size, from --fit contrast's renders there
+    // (extrapolated_brightness); -1 where none was made.
+    std::array<double, 3> a_final_size{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
     // Shares of the render's object pixels at display level 0 and 255 (a
     // render that clips has a brightness that is only a bound).
@@ -116,22 +119,26 @@ public:
     // The fitting renders are a quarter of the final render's width: at full
     // size the material's finer structure and the highlights' clipping
     // lower A (sRGB is concave; the demo's blue by 2.3 levels from 128² to
-    // 512²). Renders at the outcome's k_s, contrast and density scale at the
-    // fitting size and at `full`'s, both with `spp` samples per pixel, give
-    // the change of A with size (their noise, alike per pixel, biases both
-    // alike); the fitted ΔA plus that change is the ΔA expected at full
-    // size. Where a channel is off by more than the tolerance, k_s moves by
-    // secant steps at the fitting size (at most 3 renders) until the ΔA
-    // expected at full size is within it (docs/design.md, "The fit"). Call
-    // after run().
+    // 512²). The change of A with size, added to the fitted ΔA, is the ΔA
+    // expected at full size. --fit contrast rendered every step at full
+    // size: A there (extrapolated_brightness) less the step's fitting render's
+    // A gives the change at no cost. Otherwise renders at the outcome's k_s,
+    // contrast and density scale at both sizes, each with `spp` samples per
+    // pixel, give it (their noise, alike per pixel, biases both alike).
+    // Where a channel is foreseen off by 0.4 of the tolerance or more (the
+    // foresight's own error is up to 0.5 levels), k_s moves by secant steps
+    // at the fitting size (at most 3 renders) until the ΔA expected at full
+    // size is within that (docs/design.md, "The fit"). Call after run().
     struct FinalBrightness {
         std::array<double, 3> size_change{};  // A at full size less A at the fitting size
         std::array<double, 3> delta{};     // ΔA expected at full size at the fitted k_s
-        std::array<double, 3> ks{};        // the k_s the check chose (the fitted one where ΔA was within)
+        std::array<double, 3> ks{};        // the k_s the check chose (the fitted one where ΔA was near enough)
         std::array<double, 3> expected{};  // ΔA expected at full size at those
+        bool from_fit = false;             // the change of A from the fit's own renders at full size
+        int spp = 0;                       // samples per pixel of the full-size renders it was taken from
         int renders = 0;                   // fitting renders the steps took
     };
-    FinalBrightness final_brightness(const CameraParams& full, int spp) const;
+    FinalBrightness final_brightness(int spp) const;
 
 private:
     RenderResult fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
@@ -182,8 +189,9 @@ private:
     // renders' 4× larger pixels was 5–7 levels short of the photo's spread
     // at the final render's scale (docs/design.md, "Contrast").
     bool spread_at_final_size_;      // the final camera is larger than the fitting renders'
-    PinholeCamera spread_camera_;
-    double spread_pixels_per_side_;  // of spread_camera_
+    PinholeCamera final_camera_;
+    const PinholeCamera& spread_camera() const { return spread_at_final_size_ ? final_camera_ : camera_; }
+    double spread_pixels_per_side_;  // of spread_camera()
     int spread_renders_ = 0;         // renders at the final size (two a step; not rows of fit.csv)
     // The density scale of the fitting renders and the majorant they share
     // (that of k_s = k_max at every contrast, at this density scale).
