@@ -556,9 +556,10 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
         ->capture_default_str();
     app.add_option("--fit-max-renders", o.fit.max_renders, "Most fitting renders")->capture_default_str();
     app.add_option("--final-match", o.final_match,
-                   "After the fit, check A against the photo at the final render's size (a quarter of its "
-                   "samples, at least 64); where a channel is off by more than 1 level (the fitting renders are "
-                   "smaller, and A falls with size), correct its k_s before the final render; false: keep the "
+                   "After the fit, foresee A at the final render's size (the fitting renders are smaller, and A "
+                   "falls with size): from the fit's own renders at that size under --fit contrast, else from "
+                   "renders at both sizes with a quarter of the final samples (at least 64); where a channel is "
+                   "foreseen 0.4 levels off or more, correct its k_s before the final render; false: keep the "
                    "fitted k_s")
         ->capture_default_str();
     app.add_flag("--measure-material", o.measure_material,

@@ -83,30 +83,31 @@ RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, c
     return render(scene, PinholeCamera(prep.camera), settings, bar.get());
 }
 
-// `medium` at the final render's size, seed and `spp`, in two halves.
-SplitFilms final_halves(const PipelineOptions& o, const PreparedScene& prep, const Medium& medium, int spp,
-                        const char* label) {
+// `medium` at the final render's size, seed and `spp`, in halves and
+// quarters (material_spread extrapolates from both).
+SplitFilms final_quarters(const PipelineOptions& o, const PreparedScene& prep, const Medium& medium, int spp,
+                          const char* label) {
     Scene scene = prep.scene;
     scene.medium = &medium;
     const RenderSettings settings = final_settings(o, prep, spp);
     const std::unique_ptr<Progress> bar = render_bar(o, prep, settings, label);
-    return render_halves(scene, PinholeCamera(prep.camera), settings, nullptr, bar.get());
+    return render_quarters(scene, PinholeCamera(prep.camera), settings, nullptr, bar.get());
 }
 
 // The material against the photo (fit/appearance.h, compare_material): the
 // fitted volume and its shading render (the mean medium under the same
 // majorant: the same tentative collisions), both at the final render's
-// samples and seed in two halves, so that the noise can be taken out.
+// samples and seed in halves and quarters, so that the noise can be taken out.
 MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScene& prep,
                                     const MaterialVolume& volume, const Photo& photo, PipelineResult& res) {
     const Stopwatch clock;
-    const int spp = std::max(2, res.final_render.passes.empty() ? 2 : res.final_render.passes.back().spp);
+    const int spp = std::max(4, res.final_render.passes.empty() ? 4 : res.final_render.passes.back().spp);
     const MaterialVolumeMedium fitted(volume, volume.cube);
     OpticalParams mean_medium = volume.optics;
     mean_medium.contrast = {0.0, 0.0, 0.0};
     const MaterialVolumeMedium shading(volume, volume.cube, mean_medium, fitted.majorant());
-    const SplitFilms render = final_halves(o, prep, fitted, spp, "material render");
-    const SplitFilms flat = final_halves(o, prep, shading, spp, "shading render");
+    const SplitFilms render = final_quarters(o, prep, fitted, spp, "material render");
+    const SplitFilms flat = final_quarters(o, prep, shading, spp, "shading render");
     res.seconds_measure = clock.seconds();
     return compare_material(photo, render, flat, float(res.fit.exposure),
                             render_pixels_per_side(prep.camera, volume.cube));

@@ -85,62 +85,59 @@ double level_slope(double linear) {
 
 namespace {
 
-// One channel of a film over the object's pixels: exposed linear values
-// divided by coverage, their variances, and which pixels are the object's.
+// One channel of a render over the object's pixels: exposed linear values
+// divided by coverage, and which pixels are the object's.
 struct ObjectChannel {
     int width = 0, height = 0;
-    std::vector<double> value, variance;
+    std::vector<double> value;
     std::vector<std::uint8_t> inside;
 };
 
-ObjectChannel object_channel(const Film& film, int c, float exposure) {
+// `image`: linear RGBA, alpha = coverage (Film::rgba(true)).
+ObjectChannel object_channel(const ImageF32& image, int c, float exposure) {
     ObjectChannel o;
-    o.width = film.width();
-    o.height = film.height();
+    o.width = image.width;
+    o.height = image.height;
     const std::size_t n = std::size_t(o.width) * o.height;
     o.value.assign(n, 0.0);
-    o.variance.assign(n, 0.0);
     o.inside.assign(n, 0);
     for (int y = 0; y < o.height; ++y)
         for (int x = 0; x < o.width; ++x) {
-            const float cov = film.coverage(x, y);
+            const float cov = image.at(x, y, 3);
             if (!is_object_pixel(cov)) continue;
             const std::size_t i = std::size_t(y) * o.width + x;
             const double scale = exposure / cov;
-            o.value[i] = film.mean(x, y)[c] * scale;
-            const double var = film.variance_of_mean(x, y)[c];
-            o.variance[i] = std::isfinite(var) ? var * scale * scale : 0.0;
+            o.value[i] = image.at(x, y, c) * scale;
             o.inside[i] = 1;
         }
     return o;
 }
 
+ImageF32 film_image(const Film& film) { return ImageF32{film.width(), film.height(), 4, film.rgba(true)}; }
+
 // The mean of the object's pixels in each b×b block of the image (blocks at
-// least half the object's), and its variance.
+// least half the object's).
 ObjectChannel block_means(const ObjectChannel& in, int b) {
     ObjectChannel out;
     out.width = in.width / b;
     out.height = in.height / b;
     const std::size_t n = std::size_t(out.width) * out.height;
     out.value.assign(n, 0.0);
-    out.variance.assign(n, 0.0);
     out.inside.assign(n, 0);
     for (int by = 0; by < out.height; ++by)
         for (int bx = 0; bx < out.width; ++bx) {
-            double sum = 0.0, var = 0.0;
+            double sum = 0.0;
             int count = 0;
             for (int y = by * b; y < (by + 1) * b; ++y)
                 for (int x = bx * b; x < (bx + 1) * b; ++x) {
                     const std::size_t j = std::size_t(y) * in.width + x;
                     if (!in.inside[j]) continue;
                     sum += in.value[j];
-                    var += in.variance[j];
                     ++count;
                 }
             if (2 * count < b * b) continue;
             const std::size_t i = std::size_t(by) * out.width + bx;
             out.value[i] = sum / count;
-            out.variance[i] = var / (double(count) * count);
             out.inside[i] = 1;
         }
     return out;
@@ -219,6 +216,24 @@ double level_covariance(const ObjectChannel& a, const ObjectChannel& b) {
     return sum_ab / double(n) - (sum_a / double(n)) * (sum_b / double(n));
 }
 
+// Channel c of a render flattened by its shading render, in blocks.
+ObjectChannel flat_blocks(const ImageF32& render, const ImageF32& shading, int c, float exposure, int block) {
+    return block_means(flattened(object_channel(render, c, exposure), object_channel(shading, c, exposure)), block);
+}
+
+// The mean covariance of the flattened blocks' levels over every pair of
+// independent pieces: the variance of the image those pieces share.
+double shared_variance(const std::vector<ImageF32>& render, const std::vector<ImageF32>& shading, int c,
+                       float exposure, int block) {
+    std::vector<ObjectChannel> flat;
+    for (std::size_t i = 0; i < render.size(); ++i) flat.push_back(flat_blocks(render[i], shading[i], c, exposure, block));
+    double sum = 0.0;
+    int pairs = 0;
+    for (std::size_t i = 0; i < flat.size(); ++i)
+        for (std::size_t j = i + 1; j < flat.size(); ++j) sum += level_covariance(flat[i], flat[j]), ++pairs;
+    return sum / pairs;
+}
+
 }  // namespace
 
 int material_block(double relative_error) {
@@ -227,19 +242,20 @@ int material_block(double relative_error) {
 }
 
 MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shading, float exposure, int block) {
-    if (render.first.width() != shading.first.width() || render.first.height() != shading.first.height())
-        throw Error("internal: material_spread needs a render and a shading render of one size");
-    const Film whole_render = render.merged(), whole_shading = shading.merged();
-    auto flat_blocks = [&](const Film& r, const Film& h, int c) {
-        return block_means(flattened(object_channel(r, c, exposure), object_channel(h, c, exposure)), block);
-    };
+    if (render.first.width() != shading.first.width() || render.first.height() != shading.first.height() ||
+        render.quarters.size() != shading.quarters.size())
+        throw Error("internal: material_spread needs a render and a shading render of one size and split");
+    const std::vector<ImageF32> halves{film_image(render.first), film_image(render.second)},
+        shading_halves{film_image(shading.first), film_image(shading.second)};
+    const ImageF32 whole = film_image(render.merged()), whole_shading = film_image(shading.merged());
     MaterialSpread m;
     for (int c = 0; c < 3; ++c) {
-        const ObjectChannel whole = flat_blocks(whole_render, whole_shading, c);
-        const ObjectChannel one = flat_blocks(render.first, shading.first, c);
-        const ObjectChannel two = flat_blocks(render.second, shading.second, c);
-        const double spread = level_spread(whole);
-        m.s[c] = std::sqrt(std::max(0.0, level_covariance(one, two)));
+        double variance = shared_variance(halves, shading_halves, c, exposure, block);
+        // Richardson: the bias falls as 1/n, so V(∞) ≈ 2·V(n/2) − V(n/4).
+        if (!render.quarters.empty())
+            variance = 2.0 * variance - shared_variance(render.quarters, shading.quarters, c, exposure, block);
+        const double spread = level_spread(flat_blocks(whole, whole_shading, c, exposure, block));
+        m.s[c] = std::sqrt(std::max(0.0, variance));
         m.noise[c] = std::sqrt(std::max(0.0, spread * spread - m.s[c] * m.s[c]));
     }
     return m;
@@ -254,9 +270,9 @@ Photo flat_render(const Film& render, const Film& shading, float exposure, int b
     const std::size_t n = std::size_t(p.width) * p.height;
     p.levels.assign(n, Rgb8{0, 0, 0});
     p.foreground.assign(n, 1);
+    const ImageF32 r = film_image(render), h = film_image(shading);
     for (int c = 0; c < 3; ++c) {
-        const ObjectChannel f = block_means(
-            flattened(object_channel(render, c, exposure), object_channel(shading, c, exposure)), block);
+        const ObjectChannel f = flat_blocks(r, h, c, exposure, block);
         for (std::size_t i = 0; i < n; ++i) {
             p.levels[i][c] = display_level(f.value[i]);
             p.foreground[i] = p.foreground[i] && f.inside[i];

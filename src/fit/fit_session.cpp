@@ -153,11 +153,11 @@ RenderResult FitSession::render_at(const std::array<double, 3>& ks, const std::a
 }
 
 // A render at ks and contrast through `camera` with `spp` samples per pixel,
-// in two independent halves, for S_material's noise estimate.
+// in independent halves and quarters, for S_material's noise estimate.
 SplitFilms FitSession::split_render(const PinholeCamera& camera, const std::array<double, 3>& ks,
                                     const std::array<double, 3>& contrast, int spp) {
     SplitFilms films = with_medium(ks, contrast, spp, [&](const Scene& scene, const RenderSettings& settings) {
-        return render_halves(scene, camera, settings);
+        return render_quarters(scene, camera, settings);
     });
     if (progress_) progress_->advance();
     return films;

@@ -217,19 +217,47 @@ Film SplitFilms::merged() const {
     return film;
 }
 
-SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
-                         PathCounters* counters, Progress* progress) {
+namespace {
+
+// settings.spp samples per pixel in halves, each half rendered in `parts`
+// consecutive sample ranges: every range's film is merged into its half,
+// and with two parts kept as an image first.
+SplitFilms render_split(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                        int parts, PathCounters* counters, Progress* progress) {
     settings.validate();
-    if (settings.spp < 2) throw Error("internal: a render in halves needs at least 2 samples per pixel");
+    if (settings.spp < 2 * parts)
+        throw Error("internal: a render in " + std::to_string(2 * parts) + " pieces needs as many samples per pixel");
     const Integrator integrator = make_integrator(scene, camera, settings);
     const PixelBounds whole{0, 0, camera.width(), camera.height()};
-    const int half = settings.spp / 2;
-    SplitFilms films{Film(camera.width(), camera.height()), Film(camera.width(), camera.height())};
+    SplitFilms films{Film(camera.width(), camera.height()), Film(camera.width(), camera.height()), {}};
     PathCounters local;
-    add_samples(scene, integrator, camera, settings, {0, half}, whole, films.first, local, progress);
-    add_samples(scene, integrator, camera, settings, {half, settings.spp}, whole, films.second, local, progress);
+    const int pieces = 2 * parts;
+    for (int i = 0; i < pieces; ++i) {
+        Film& half = i < parts ? films.first : films.second;
+        const SampleRange range{settings.spp * i / pieces, settings.spp * (i + 1) / pieces};
+        if (parts == 1) {
+            add_samples(scene, integrator, camera, settings, range, whole, half, local, progress);
+            continue;
+        }
+        Film piece(camera.width(), camera.height());
+        add_samples(scene, integrator, camera, settings, range, whole, piece, local, progress);
+        films.quarters.push_back(ImageF32{camera.width(), camera.height(), 4, piece.rgba(true)});
+        half.merge(piece);
+    }
     if (counters) *counters += local;
     return films;
+}
+
+}  // namespace
+
+SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                         PathCounters* counters, Progress* progress) {
+    return render_split(scene, camera, settings, 1, counters, progress);
+}
+
+SplitFilms render_quarters(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                           PathCounters* counters, Progress* progress) {
+    return render_split(scene, camera, settings, 2, counters, progress);
 }
 
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes) {

@@ -88,6 +88,21 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
         CHECK(identical(halves.first, render_pass(scene, camera, settings, {0, 18}, all)));
         CHECK(identical(halves.merged(), whole));
     }
+    SECTION("a render in quarters: the same halves, and each quarter its own sample range") {
+        const SplitFilms halves = render_halves(scene, camera, settings);
+        const SplitFilms quarters = render_quarters(scene, camera, settings);
+        CHECK(halves.quarters.empty());
+        CHECK(identical(quarters.first, halves.first));
+        CHECK(identical(quarters.second, halves.second));
+        REQUIRE(quarters.quarters.size() == 4);
+        const SampleRange ranges[4] = {{0, 9}, {9, 18}, {18, 27}, {27, 37}};
+        for (int i = 0; i < 4; ++i) {
+            const ImageF32& q = quarters.quarters[std::size_t(i)];
+            CHECK(q.width == 24);
+            CHECK(q.channels == 4);
+            CHECK(q.pixels == render_pass(scene, camera, settings, ranges[i], all).rgba(true));
+        }
+    }
     SECTION("a different seed gives a different image") {
         settings.seed = 8;
         CHECK_FALSE(identical(render_pass(scene, camera, settings, {0, 37}, all), whole));

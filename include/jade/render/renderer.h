@@ -7,6 +7,7 @@
 // index) and each pixel's samples are added in index order by one thread, so
 // an image is bit-identical for a seed whatever the thread count.
 
+#include "jade/core/image.h"
 #include "jade/render/camera.h"
 #include "jade/render/film.h"
 #include "jade/render/integrator.h"
@@ -99,10 +100,18 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
 // S_material, fit/display.h). The integrator is set up once for both.
 struct SplitFilms {
     Film first, second;
+    // render_quarters only: the quarters [0, n/4) … [3n/4, n) in order, the
+    // first two making `first`, as images (RGBA, alpha = coverage; a film
+    // would take 13 times the memory): the same statistic at half the
+    // samples, from which its bias from the noise is extrapolated away.
+    std::vector<ImageF32> quarters;
     Film merged() const;
 };
 SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                          PathCounters* counters = nullptr, Progress* progress = nullptr);
+// The same halves, bit for bit, and their quarters (settings.spp ≥ 4).
+SplitFilms render_quarters(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                           PathCounters* counters = nullptr, Progress* progress = nullptr);
 
 // pass,spp,seconds,estimated_rel_error,rmse,rel_mse — written whole or not at all.
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes);
