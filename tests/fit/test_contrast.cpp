@@ -52,6 +52,19 @@ struct ShadedStripes {
     Film shading = exact_film(w, h, [this](int x, int) { return Spectrum(float(shade(x) * 0.35)); });
     Film render = exact_film(w, h, [this](int x, int y) { return Spectrum(float(shade(x) * stripe(y))); });
 
+    // The render with `samples` samples a pixel, each its value × draw(rng):
+    // a noise of mean 1 whose law the test chooses.
+    template <class Draw>
+    Film noisy_render(int samples, std::uint64_t seed, Draw draw) const {
+        SplitMix64 rng(seed);
+        Film f(w, h);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int i = 0; i < samples; ++i)
+                    f.add_sample(x, y, Spectrum(float(shade(x) * stripe(y) * draw(rng))), true);
+        return f;
+    }
+
     // The flattened render's levels: stripe × c, with c such that their mean
     // level is the render's (found by bisection, as the flattening does).
     std::vector<double> flat_levels() const {
@@ -118,15 +131,7 @@ TEST_CASE("material spread: the noise of heavy-tailed samples is taken out", "[f
     const ShadedStripes scene;
     constexpr int kPerHalf = 64;
     auto noisy_half = [&](std::uint64_t seed) {
-        SplitMix64 rng(seed);
-        Film f(scene.w, scene.h);
-        for (int y = 0; y < scene.h; ++y)
-            for (int x = 0; x < scene.w; ++x)
-                for (int i = 0; i < kPerHalf; ++i) {
-                    const double v = scene.shade(x) * scene.stripe(y) * (rng.uniform() < 0.25 ? 4.0 : 0.0);
-                    f.add_sample(x, y, Spectrum(float(v)), true);
-                }
-        return f;
+        return scene.noisy_render(kPerHalf, seed, [](SplitMix64& rng) { return rng.uniform() < 0.25 ? 4.0 : 0.0; });
     };
     const SplitFilms shading{scene.shading, scene.shading};
     // Seeds far apart: a SplitMix64 stream is its seed counted up.
@@ -157,15 +162,7 @@ TEST_CASE("material spread: the noise's bias is extrapolated away from halves an
     const ShadedStripes scene(200, 150);
     constexpr int kPerQuarter = 2;
     auto noisy_quarter = [&](std::uint64_t seed) {
-        SplitMix64 rng(seed);
-        Film f(scene.w, scene.h);
-        for (int y = 0; y < scene.h; ++y)
-            for (int x = 0; x < scene.w; ++x)
-                for (int i = 0; i < kPerQuarter; ++i) {
-                    const double v = scene.shade(x) * scene.stripe(y) * -std::log(1.0 - rng.uniform());
-                    f.add_sample(x, y, Spectrum(float(v)), true);
-                }
-        return f;
+        return scene.noisy_render(kPerQuarter, seed, [](SplitMix64& rng) { return -std::log(1.0 - rng.uniform()); });
     };
     const ImageF32 flat{scene.w, scene.h, 4, scene.shading.rgba(true)};
     const SplitFilms shading_halves{scene.shading, scene.shading, {}};
