@@ -1,5 +1,7 @@
 #include "jade/fit/fit_session.h"
 
+#include "jade/fit/broyden.h"
+
 #include "jade/core/error.h"
 #include "jade/core/spectrum.h"
 #include "jade/render/media/grid.h"
@@ -40,22 +42,6 @@ FitLimits limits_for(const OpticalParams& optics, const std::array<int, 3>& lowe
     for (int c = 0; c < 3; ++c) limits.k_min[c] = k_min_for(optics, lowest[c], c, contrast[c]);
     return limits;
 }
-
-// The next contrast for a channel whose S_material is `s` at contrast g and
-// should be `target`: S grows about in proportion to g (the levels' spread
-// about their mean does exactly), so the first step scales g by target / s;
-// once two contrasts were tried, a secant through them. Each step at most
-// quadruples or quarters g.
-double next_contrast(double g, double s, double target, bool have_prev, double g_prev, double s_prev) {
-    double next = s > 0.0 ? g * target / s : 2.0 * g;
-    if (have_prev && std::abs(g - g_prev) > 1e-3) {
-        const double slope = (s - s_prev) / (g - g_prev);
-        if (slope > 0.0) next = g + (target - s) / slope;
-    }
-    if (g > 0.0) next = std::clamp(next, 0.25 * g, 4.0 * g);
-    return std::clamp(next, 0.0, kMaxContrast);
-}
-
 
 }  // namespace
 
@@ -257,7 +243,7 @@ FitOutcome FitSession::run(Progress* progress) {
     const bool fitting = options_.method != FitMethod::None;
     const std::array<double, 3>& g = outcome_.contrast_start;
 
-    FitDriver driver(options_.method, outcome_.ks_start, limits_);
+    FitDriver driver(options_.method, outcome_.ks_start, k_search_limits());
     if (bisects(options_.method) || (fitting && outcome_.exposure_matched)) bracket(driver);
     // --fit contrast keeps renders for at least two of its steps.
     const int k_renders = options_.max_renders - (options_.method == FitMethod::Contrast ? 2 * step_cost() : 0);
@@ -430,6 +416,21 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
     return f;
 }
 
+namespace {
+// --fit contrast's first step moves A by 8–12 levels (the contrast rises
+// up to 4×, and A with it; Onyx010), and its Newton steps match A in k_s and
+// g together from there: bisecting k_s to 1 level beforehand costs one or
+// two renders whose precision that step throws away, so the search hands
+// over at this |ΔA|.
+constexpr double kContrastHandover = 3.0;
+}  // namespace
+
+FitLimits FitSession::k_search_limits() const {
+    FitLimits limits = limits_;
+    if (options_.method == FitMethod::Contrast) limits.tolerance = kContrastHandover;
+    return limits;
+}
+
 double FitSession::k_min_at(int c, double contrast) const {
     return k_min_for(optics_, lowest_level_[c], c, contrast);
 }
@@ -484,20 +485,25 @@ constexpr double kMinDensityStep = 1.1;
 
 }  // namespace
 
+// A change of (ΔA, ΔS) smaller than this (gray levels) says too little
+// beside the renders' noise (A's standard error is 0.3, S's about as much,
+// and a change is the difference of two) to correct the Jacobian by.
+constexpr double kJacobianMinChange = 2.0;
+
 // The state of --fit contrast's search, per channel.
 struct FitSession::ContrastSearch {
     std::array<double, 3> k{}, g{};
-    // dA/dk_s, measured at contrast 1 by the k_s search and corrected by
-    // every step (at another contrast the slope differs, and Newton steps
-    // with the first slope swing back and forth or creep).
-    std::array<double, 3> slope{};
-    std::array<double, 3> delta_prev{};
+    // The Jacobian of (ΔA, ΔS) in (k_s, g) per channel: dA/dk_s from the
+    // k_s search, dS/dg from the first step (S grows about in proportion to
+    // g: the levels' spread about their mean does exactly), the cross terms
+    // 0 until the steps show them; every step corrects it (Broyden).
+    std::array<BroydenJacobian2, 3> jacobian{};
     std::array<bool, 3> done{};
     std::array<double, 3> best_score{1e300, 1e300, 1e300};
-    std::array<double, 3> g_prev{}, s_prev{};
-    // A step before this one at this density scale: for the contrasts'
-    // secants, and for correcting k_s's slope by the change in ΔA (a step
-    // in density scale moves A as well).
+    // The step before this one at this density scale, for the Jacobian's
+    // update (a step in density scale moves A and S as well).
+    std::array<double, 3> k_prev{}, g_prev{};
+    std::array<std::array<double, 2>, 3> residual_prev{};
     bool have_prev = false;
     // The last render's contrast, S and ΔA per channel, and the same at the
     // last step in density scale (density_at_raise > 0 once there was one):
@@ -546,18 +552,23 @@ FitSession::StepRenders FitSession::step_renders(const std::array<double, 3>& ks
 // until A and S_material match in every channel (docs/design.md,
 // "Contrast"). Each step renders the mean medium (contrast 0: the shading)
 // and the volume at (k_s, g), both at the fitting renders' random numbers
-// (step_renders); g moves S_material towards the photo's S at the same
-// scale (next_contrast), k_s moves A back by Newton's step with the slope
-// measured by the k_s search. The channels are independent (one render
-// serves all three); a channel stops when both |ΔA| < 1 and
-// |ΔS| < s_tolerance, and keeps the best (k_s, g) it saw. Where a channel
+// (step_renders). Per channel, Newton's step for (ΔA, ΔS) = 0 in (k_s, g)
+// with a Jacobian that every step corrects (contrast_step): both levers
+// move both A and S (raising g from 1 to 2 raised A by 11–19 levels in
+// the round-trip test), and one-dimensional rules, each blind to the other
+// lever, took that for their own lever's effect. ΔA is judged at the final
+// size where the steps render there, S_material against the photo's S at
+// the same scale. The channels are independent (one render serves all
+// three); a channel stops when both |ΔA| < 1 and |ΔS| < s_tolerance, and
+// keeps the best (k_s, g) it saw. Where a channel
 // would need a contrast above kContrastCeiling, the density scale (shared
 // by the channels) rises instead (raise_density_scale).
 void FitSession::fit_contrast() {
     ContrastSearch st;
     st.k = outcome_.ks;
     st.g = outcome_.contrast_start;
-    st.slope = brightness_slopes();
+    const std::array<double, 3> slope = brightness_slopes();
+    for (int c = 0; c < 3; ++c) st.jacobian[c].m[0][0] = slope[c];
     int block = material_block(outcome_.estimated_error);
     std::array<double, 3> s_photo = photo_spread(photo_, spread_pixels_per_side_ / block);
     bool block_chosen = !spread_at_final_size_;
@@ -577,13 +588,20 @@ void FitSession::fit_contrast() {
         rec.s_material = spread.s;
         rec.s_material_noise = spread.noise;
         rec.s_photo_scaled = s_photo;
-        if (spread_at_final_size_) rec.a_final_size = extrapolated_brightness(step.render, outcome_.exposure);
+        // ΔA where the final render will have it: at the final size, from
+        // its halves there (the fitting size's A differs by up to 10 levels
+        // on a small object; docs/design.md, "Contrast").
+        std::array<double, 3> delta = rec.delta;
+        if (spread_at_final_size_) {
+            rec.a_final_size = extrapolated_brightness(step.render, outcome_.exposure);
+            for (int c = 0; c < 3; ++c) delta[c] = rec.a_final_size[c] - photo_histogram_.mean(c);
+        }
         bool all_done = true;
         st.g_last = st.g;
         st.s_last = spread.s;
-        st.delta_last = rec.delta;
+        st.delta_last = delta;
         for (int c = 0; c < 3; ++c) {
-            contrast_step(st, c, rec.delta[c], spread.s[c], s_photo[c]);
+            contrast_step(st, c, delta[c], spread.s[c], s_photo[c]);
             all_done = all_done && st.done[c];
         }
         st.have_prev = true;
@@ -595,7 +613,7 @@ void FitSession::fit_contrast() {
     outcome_.s_photo = s_photo;
     outcome_.material_block = block;
     outcome_.density_scale = density_scale_;
-    outcome_.brightness_slope = st.slope;
+    for (int c = 0; c < 3; ++c) outcome_.brightness_slope[c] = st.jacobian[c].m[0][0];
     outcome_.converged = true;
     for (int c = 0; c < 3; ++c) {
         outcome_.state[c] = st.done[c] ? ChannelState::Converged : ChannelState::Unreachable;
@@ -615,7 +633,8 @@ void FitSession::fit_contrast() {
 
 // One channel's part of a step of --fit contrast, after a render that gave
 // ΔA = delta and S_material = s: keep the best (k_s, g), stop when both
-// match, else the next k_s and g.
+// match, else correct the Jacobian by the step just made (Broyden) and take
+// the next k_s and g from it.
 void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s, double s_photo) {
     const double score = std::max(std::abs(delta) / limits_.tolerance, std::abs(s - s_photo) / options_.s_tolerance);
     if (score < st.best_score[c]) {
@@ -626,20 +645,24 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
     }
     if (score < 1.0) st.done[c] = true;
     if (st.done[c]) return;
-    // A Newton step that left the ratio r = ΔA_now / ΔA_before took a
-    // slope 1 − r times the true one: r < 0 overshot (too shallow),
-    // 0 < r < 1 fell short (too steep). Steps near the goal are noise, and
-    // a step the contrast moved a lot is not k_s's alone, so the factor is
-    // bounded.
-    if (st.have_prev && std::abs(st.delta_prev[c]) > 2.0 * limits_.tolerance) {
-        const double factor = 1.0 - delta / st.delta_prev[c];
-        if (factor > 0.0) st.slope[c] *= std::clamp(factor, 0.25, 4.0);
-    }
-    st.delta_prev[c] = delta;
-    const double g_next = next_contrast(st.g[c], s, s_photo, st.have_prev, st.g_prev[c], st.s_prev[c]);
-    st.g_prev[c] = st.g[c];
-    st.s_prev[c] = s;
-    st.k[c] = std::clamp(st.k[c] - delta / st.slope[c], k_min_at(c, g_next), limits_.k_max);
+    BroydenJacobian2& jac = st.jacobian[c];
+    const std::array<double, 2> residual{delta, s - s_photo};
+    const double g = st.g[c];
+    if (st.have_prev)
+        jac.update({st.k[c] - st.k_prev[c], g - st.g_prev[c]},
+                   {residual[0] - st.residual_prev[c][0], residual[1] - st.residual_prev[c][1]}, kJacobianMinChange);
+    else if (!(jac.m[1][1] > 0.0))
+        jac.m[1][1] = s > 0.0 && g > 0.0 ? s / g : std::max(s_photo, 1.0);
+    st.k_prev[c] = st.k[c];
+    st.g_prev[c] = g;
+    st.residual_prev[c] = residual;
+    // Newton's step for both; each step at most quadruples or quarters g,
+    // and k_s then makes up for the contrast's actual move.
+    double g_next = g + jac.newton_step(residual)[1];
+    if (g > 0.0) g_next = std::clamp(g_next, 0.25 * g, 4.0 * g);
+    g_next = std::clamp(g_next, 0.0, kMaxContrast);
+    const double k_next = st.k[c] - (delta + jac.m[0][1] * (g_next - g)) / jac.m[0][0];
+    st.k[c] = std::clamp(k_next, k_min_at(c, g_next), limits_.k_max);
     st.g[c] = g_next;
 }
 
@@ -651,8 +674,8 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
 // channel's contrast then starts from the proportional rule at the S the
 // new density scale is expected to give, so the channel that needed most
 // starts at the ceiling. The search starts again at the new density scale:
-// no channel is done, the best (k_s, g) and the contrasts' secants are
-// forgotten (they belong to the old one); k_s's slope is kept, but the next
+// no channel is done, the best (k_s, g) and the Jacobian's terms in g are
+// forgotten (they belong to the old one); dA/dk_s is kept, and the next
 // step does not correct it.
 void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double, 3>& s_photo) {
     double need = 1.0;
@@ -675,6 +698,8 @@ void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double
         st.k[c] = std::clamp(st.k[c], k_min_at(c, st.g[c]), limits_.k_max);
         st.done[c] = false;
         st.best_score[c] = 1e300;
+        BroydenJacobian2& jac = st.jacobian[c];
+        jac.m[0][1] = jac.m[1][0] = jac.m[1][1] = 0.0;
     }
     st.have_prev = false;
 }

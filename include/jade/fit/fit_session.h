@@ -164,6 +164,7 @@ private:
     const FitRecord* final_record(int c) const;
     std::array<double, 3> brightness_slopes() const;
     double k_min_at(int channel, double contrast) const;
+    FitLimits k_search_limits() const;
     void set_density_scale(double density_scale);
     int fitting_renders() const;
 
