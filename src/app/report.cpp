@@ -10,9 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <oneapi/tbb/version.h>
 
+#include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 
 namespace jade {
 
@@ -26,7 +27,7 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     std::string s = "iteration,seconds,spp";
     const char* ch[3] = {"r", "g", "b"};
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
-                             "S_photo_scaled", "S_material", "S_material_noise"})
+                             "S_photo_scaled", "S_material", "S_material_noise", "A_final_size"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
     s += ",density_scale,structure,shading\n";
     char buf[64];
@@ -34,7 +35,8 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
         s += buf;
         for (const auto* arr : {&r.ks, &r.contrast, &r.a_photo, &r.a_render, &r.a_sigma, &r.delta, &r.distance,
-                                &r.s_photo, &r.s_render, &r.s_photo_scaled, &r.s_material, &r.s_material_noise})
+                                &r.s_photo, &r.s_render, &r.s_photo_scaled, &r.s_material, &r.s_material_noise,
+                                &r.a_final_size})
             for (double v : *arr) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
@@ -193,7 +195,8 @@ std::string pipeline_report(const PipelineReport& in) {
                          {"material", fit.s_material}, {"material_block", fit.material_block}};
     if (!fit.records.empty()) {
         // The fitting render at the chosen k_s (the best per channel may come from different renders).
-        std::array<double, 3> delta{}, dist{};
+        // --fit contrast judged ΔA at the final render's size: that one too.
+        std::array<double, 3> delta{}, dist{}, at_final_size{-1e300, -1e300, -1e300};
         for (int c = 0; c < 3; ++c) {
             double best = 1e300;
             for (const FitRecord& r : fit.records)
@@ -203,10 +206,14 @@ std::string pipeline_report(const PipelineReport& in) {
                     best = std::abs(r.delta[c]);
                     delta[c] = r.delta[c];
                     dist[c] = r.distance[c];
+                    at_final_size[c] = r.a_final_size[c] >= 0.0 ? r.a_final_size[c] - r.a_photo[c] : -1e300;
                 }
         }
+        const bool have_final_size =
+            std::all_of(at_final_size.begin(), at_final_size.end(), [](double d) { return d > -1e299; });
         j["fit"]["final_delta_A"] = delta;
         j["fit"]["final_D"] = dist;
+        if (have_final_size) j["fit"]["final_delta_A_final_size"] = at_final_size;
     }
     j["final_render"] = {{"width", in.replay.width}, {"height", in.replay.height},
                          {"spp", last.spp}, {"seconds", res.final_render.seconds},

@@ -1,0 +1,51 @@
+// fit.csv as a reader parses it: one header, one row per fitting render,
+// the columns in the header's order.
+#include "jade/app/report.h"
+
+#include <catch2/catch.hpp>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace jade;
+
+namespace {
+
+std::vector<std::string> fields(const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("fit.csv: A at the final size beside the fitting render's own A, -1 where none was rendered",
+          "[report]") {
+    FitRecord judged;
+    judged.iteration = 3;
+    judged.a_render = {190.0, 150.0, 120.0};
+    judged.a_final_size = {187.5, 146.25, 111.0};
+    const FitRecord plain;  // a render of the k_s search: nothing at the final size
+    std::stringstream csv(fit_csv({judged, plain}));
+    std::string header, first, second;
+    std::getline(csv, header);
+    std::getline(csv, first);
+    std::getline(csv, second);
+    const std::vector<std::string> names = fields(header), a = fields(first), b = fields(second);
+    REQUIRE(a.size() == names.size());
+    REQUIRE(b.size() == names.size());
+    const auto value = [&](const std::vector<std::string>& row, const std::string& name) {
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (names[i] == name) return std::stod(row[i]);
+        FAIL("no column " << name);
+        return 0.0;
+    };
+    CHECK(value(a, "A_render_b") == 120.0);
+    CHECK(value(a, "A_final_size_r") == 187.5);
+    CHECK(value(a, "A_final_size_g") == 146.25);
+    CHECK(value(a, "A_final_size_b") == 111.0);
+    CHECK(value(b, "A_final_size_b") == -1.0);
+    CHECK(value(a, "iteration") == 3.0);
+}
