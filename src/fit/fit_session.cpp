@@ -419,10 +419,11 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
 namespace {
 // --fit contrast's first step moves A by 8–12 levels (the contrast rises
 // up to 4×, and A with it; Onyx010), and its Newton steps match A in k_s and
-// g together from there: bisecting k_s to 1 level beforehand costs one or
-// two renders whose precision that step throws away, so the search hands
-// over at this |ΔA|.
-constexpr double kContrastHandover = 3.0;
+// g together from there: bisecting k_s to 1 level beforehand costs renders
+// whose precision that step throws away, so the search hands over at this
+// |ΔA| (from 3 to 5 it saved one render on the demo and on Onyx010, and
+// both still end within 1 level).
+constexpr double kContrastHandover = 5.0;
 }  // namespace
 
 FitLimits FitSession::k_search_limits() const {
@@ -471,10 +472,14 @@ constexpr double kContrastCeiling = 4.0;
 // power α: the factor by which a step in density scale is expected to raise
 // S, so that the contrasts can be lowered to match. It differs between
 // channels and falls as the density grows (the demo's vase: 0.6–0.9 from
-// 20 to 60 at contrast 1; blue at contrast 4, 0.47 from 20 to 61 and 0.36
-// from 61 to 113), so the first step takes this one and later steps the one
-// measured by the steps before (bounded).
-constexpr double kDensityExponent = 0.5;
+// 20 to 60 at contrast 1; blue at the ceiling, where the density rises,
+// 0.47 from 20 to 61 and 0.36 from 61 to 113; Onyx010's 0.2–0.3 from 20
+// to 61), so the first step takes one from the ceiling's range and later
+// steps the one measured by the steps before (bounded). Too large an α
+// raises the density by too little, and each further step costs three
+// renders (0.5: Onyx010 raised it three times, in 22 renders; 0.35:
+// twice, in 19); too small a one overshoots a scale that never falls back.
+constexpr double kDensityExponent = 0.35;
 constexpr double kDensityExponentMin = 0.3, kDensityExponentMax = 1.5;
 // The most the fit raises the density scale, as a factor of the volume's
 // own, and per step.
