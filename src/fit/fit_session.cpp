@@ -678,7 +678,9 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
 // give that (S ∝ density scale^α), for the channel that needs most. Every
 // channel's contrast then starts from the proportional rule at the S the
 // new density scale is expected to give, so the channel that needed most
-// starts at the ceiling. The search starts again at the new density scale:
+// starts at the ceiling (above it where the step was capped at
+// kMaxDensityStep; a channel that then matches there ends above it: the
+// demo's blue at 5.2). The search starts again at the new density scale:
 // no channel is done, the best (k_s, g) and the Jacobian's terms in g are
 // forgotten (they belong to the old one); dA/dk_s is kept, and the next
 // step does not correct it.
