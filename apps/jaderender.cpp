@@ -673,12 +673,13 @@ int run_pipeline(PipelineFlags& p) {
 }
 
 struct BenchCommands {
-    CLI::App *bench, *volume, *render, *fidelity, *stiff;
+    CLI::App *bench, *volume, *render, *fidelity, *stiff, *convergence;
 };
 
-// `jaderender bench volume|render` and their flags.
+// `jaderender bench volume|render|fidelity|stiff|convergence` and their flags.
 BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench, jade::RenderBenchOptions& rbench,
-                                 jade::FidelityBenchOptions& fbench, jade::StiffBenchOptions& sbench) {
+                                 jade::FidelityBenchOptions& fbench, jade::StiffBenchOptions& sbench,
+                                 jade::ConvergenceBenchOptions& cbench) {
     auto* cmd = app.add_subcommand(
         "bench", "Benchmarks: time, throughput, error against time and peak memory");
     cmd->require_subcommand(1);
@@ -724,7 +725,13 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
     stiff->add_option("--seconds", sbench.seconds, "Time budget a case")->capture_default_str();
     stiff->add_option("--max-sigma-t", sbench.max_sigma_t, "Largest sigma_t (per unit length)")
         ->capture_default_str();
-    return {cmd, bench_volume, bench_render, fidelity, stiff};
+    auto* convergence = cmd->add_subcommand(
+        "convergence", "A render's true error against samples and seconds, measured across independent batches, "
+                       "beside the film's own estimate");
+    convergence->add_option("--job", cbench.job, "The render: a job document or a pipeline's report.json")->required();
+    convergence->add_option("--batches", cbench.batches, "Independent batches (a power of 2)")->capture_default_str();
+    convergence->add_option("--batch-spp", cbench.batch_spp, "Samples per pixel of a batch")->capture_default_str();
+    return {cmd, bench_volume, bench_render, fidelity, stiff, convergence};
 }
 
 // Parses the command line: -1 to go on, else the exit code (0 after --help
@@ -843,10 +850,11 @@ int run_command(int argc, char** argv) {
     jade::RenderBenchOptions rbench;
     jade::FidelityBenchOptions fbench;
     jade::StiffBenchOptions sbench;
-    const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench, sbench);
+    jade::ConvergenceBenchOptions cbench;
+    const BenchCommands benches = add_bench_commands(app, bench, rbench, fbench, sbench, cbench);
 
     for (CLI::App* cmd : {volume_cmd, render_cmd, merge_cmd, batch_cmd, summary_cmd, benches.bench, benches.volume,
-                          benches.render, benches.fidelity, benches.stiff})
+                          benches.render, benches.fidelity, benches.stiff, benches.convergence})
         add_threads(*cmd);
 
     if (const int code = parse_flags(app, argc, argv); code >= 0) return code;
@@ -867,6 +875,7 @@ int run_command(int argc, char** argv) {
         if (*benches.render) return jade::run_render_benchmark(rbench);
         if (*benches.fidelity) return jade::run_fidelity_benchmark(fbench);
         if (*benches.stiff) return jade::run_stiff_benchmark(sbench);
+        if (*benches.convergence) return jade::run_convergence_benchmark(cbench);
     } catch (const jade::Error& e) {
         std::fprintf(stderr, "jaderender: error: %s\n", e.what());
         return 2;

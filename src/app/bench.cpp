@@ -12,6 +12,7 @@
 #include "jade/volume/photo.h"
 #include "jade/core/random.h"
 #include "jade/core/timing.h"
+#include "jade/app/job.h"
 #include "jade/app/render_job.h"
 #include "jade/io/vdb_io.h"
 
@@ -150,6 +151,57 @@ int run_render_benchmark(const RenderBenchOptions& o) {
                 format_megabytes(double(medium.memory_bytes())).c_str(),
                 format_megabytes(double(o.width) * o.height * (6 * sizeof(double) + sizeof(std::uint32_t))).c_str(),
                 format_megabytes(double(peak_rss_bytes())).c_str());
+    return 0;
+}
+
+int run_convergence_benchmark(const ConvergenceBenchOptions& o) {
+    if (o.job.empty()) throw Error("bench convergence: --job is required");
+    if (o.batches < 2 || (o.batches & (o.batches - 1)) != 0)
+        throw Error("bench convergence: --batches must be a power of 2, at least 2");
+    const RenderJob job = load_job(o.job);
+    std::printf("convergence benchmark: %s, %dx%d, %d batches of %d spp, %d threads\n", o.job.c_str(), job.width,
+                job.height, o.batches, o.batch_spp, tbb::info::default_concurrency());
+    const RenderBatches b = render_job_batches(job, o.batches, o.batch_spp, [&](int j, double seconds) {
+        std::printf("  batch %d: samples %d:%d in %.2f s\n", j, j * o.batch_spp, (j + 1) * o.batch_spp, seconds);
+        std::fflush(stdout);
+    });
+    std::printf("medium: %s (loaded in %.2f s)\n", b.medium_description.c_str(), b.load_seconds);
+    std::printf("%8s %10s %16s %16s\n", "spp", "seconds", "error (across)", "film's estimate");
+    struct Row {
+        int spp;
+        double seconds, across, film;
+    };
+    std::vector<Row> rows;
+    double total = 0.0;
+    for (double t : b.seconds) total += t;
+    for (int g = 1; g < o.batches; g *= 2) {
+        std::vector<Film> groups;
+        double film = 0.0;
+        for (int a = 0; a < o.batches; a += g) {
+            Film f = b.films[std::size_t(a)];
+            for (int k = 1; k < g; ++k) f.merge(b.films[std::size_t(a + k)]);
+            film += f.estimated_relative_error();
+            groups.push_back(std::move(f));
+        }
+        const int n = o.batches / g;
+        rows.push_back({g * o.batch_spp, total / n, Film::relative_error_across(groups), film / n});
+    }
+    Film whole = b.films[0];
+    for (int k = 1; k < o.batches; ++k) whole.merge(b.films[std::size_t(k)]);
+    rows.push_back({o.batches * o.batch_spp, total, rows[0].across / std::sqrt(double(o.batches)),
+                    whole.estimated_relative_error()});
+    for (const Row& r : rows) std::printf("%8d %10.2f %16.4f %16.4f\n", r.spp, r.seconds, r.across, r.film);
+    const auto first = std::find_if(rows.begin(), rows.end(), [](const Row& r) { return r.spp >= 64; });
+    const Row& last = rows.back();
+    if (first != rows.end() && first->spp < last.spp) {
+        // The batches cost alike, so seconds grow as the samples do and
+        // one slope serves both.
+        const double ls = std::log(double(last.spp) / first->spp);
+        std::printf("log-log slope from %d to %d spp (%.3f s a sample per pixel): across %.3f, the film's "
+                    "estimate %.3f (1/sqrt: -0.5)\n",
+                    first->spp, last.spp, total / last.spp, std::log(last.across / first->across) / ls,
+                    std::log(last.film / first->film) / ls);
+    }
     return 0;
 }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 namespace jade {
@@ -88,6 +89,19 @@ void validate_job(const RenderJob& job) {
         throw Error("--ks and --contrast apply to a jaderender --volume, not to a homogeneous medium");
 }
 
+// The job's scene with its medium in it, ready to render.
+struct LoadedScene {
+    std::unique_ptr<PreparedScene> prep;
+    std::unique_ptr<LoadedMedium> medium;
+};
+
+LoadedScene load_scene(const RenderJob& job) {
+    LoadedScene s{prepare_scene(job), nullptr};
+    s.medium = load_medium(job, s.prep->cube);
+    s.prep->scene.medium = s.medium->medium.get();
+    return s;
+}
+
 // A piece of the render: its range only, written as a piece file.
 void render_piece(const RenderJob& job, const PieceRange& piece, const Scene& scene, const PinholeCamera& camera,
                   const RenderSettings& settings, const std::string& path, Progress* progress,
@@ -108,6 +122,33 @@ void render_piece(const RenderJob& job, const PieceRange& piece, const Scene& sc
 }
 
 }  // namespace
+
+RenderBatches render_job_batches(const RenderJob& job, int batches, int batch_spp,
+                                 const std::function<void(int, double)>& on_batch) {
+    validate_job(job);
+    if (batches < 2 || batch_spp < 2) throw Error("--batches and --batch-spp must be at least 2");
+    if (double(batches) * batch_spp > double(std::numeric_limits<int>::max()))
+        throw Error("--batches times --batch-spp is too many samples per pixel");
+    RenderBatches out;
+    const Stopwatch load_clock;
+    const LoadedScene loaded = load_scene(job);
+    const PreparedScene* prep = loaded.prep.get();
+    out.medium_description = loaded.medium->description;
+    const PinholeCamera camera(prep->camera);
+    RenderSettings settings = job.settings;
+    settings.backdrop = prep->backdrop;
+    settings.spp = batches * batch_spp;
+    out.load_seconds = load_clock.seconds();
+    const PixelBounds all{0, 0, job.width, job.height};
+    for (int j = 0; j < batches; ++j) {
+        const Stopwatch clock;
+        out.films.push_back(
+            render_pass(prep->scene, camera, settings, SampleRange{j * batch_spp, (j + 1) * batch_spp}, all));
+        out.seconds.push_back(clock.seconds());
+        if (on_batch) on_batch(j, out.seconds.back());
+    }
+    return out;
+}
 
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
                                const std::function<void(const PassRecord&)>& on_pass, const PieceRange* piece) {
@@ -130,13 +171,13 @@ RenderJobResult run_render_job(const RenderJob& job, Progress* progress,
         if (!path.empty()) require_output_folder(path);
     RenderJobResult result;
     const Stopwatch load_clock;
-    const std::unique_ptr<PreparedScene> prep = prepare_scene(job);
+    const LoadedScene loaded = load_scene(job);
+    const PreparedScene* prep = loaded.prep.get();
+    const LoadedMedium* medium = loaded.medium.get();
     result.warnings = prep->warnings;
-    const std::unique_ptr<LoadedMedium> medium = load_medium(job, prep->cube);
     result.medium_description = medium->description;
     result.medium_bytes = medium->medium->memory_bytes();
     result.exposure = job.exposure > 0.f ? job.exposure : medium->fitted_exposure > 0.f ? medium->fitted_exposure : 1.f;
-    prep->scene.medium = medium->medium.get();
     const PinholeCamera camera(prep->camera);
 
     std::optional<ImageF32> reference;

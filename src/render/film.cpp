@@ -219,31 +219,70 @@ float Film::coverage(int x, int y) const {
     return float(hits_[i]) / float(count_[i]);
 }
 
-double Film::estimated_relative_error() const {
+template <class Object, class Mean, class Variance>
+double Film::relative_error(std::size_t pixels, Object object, Mean mean, Variance variance) {
     // The object's mean value sets the scale of the regulariser, so that the
     // measure does not depend on the image's exposure.
     double level = 0.0;
     std::size_t count = 0;
-    auto object = [&](std::size_t i) {
-        return count_[i] >= 2 && is_object_pixel(float(hits_[i]) / float(count_[i]));
-    };
-    for (std::size_t i = 0; i < count_.size(); ++i) {
+    for (std::size_t i = 0; i < pixels; ++i) {
         if (!object(i)) continue;
-        for (int c = 0; c < 3; ++c) level += pixel_mean(i, c);
+        for (int c = 0; c < 3; ++c) level += mean(i, c);
         count += 3;
     }
     if (count == 0) return std::numeric_limits<double>::quiet_NaN();
     level /= double(count);
     const double epsilon = kRelativeEpsilon * std::max(level * level, 1e-30);
     double total = 0.0;
-    for (std::size_t i = 0; i < count_.size(); ++i) {
+    for (std::size_t i = 0; i < pixels; ++i) {
         if (!object(i)) continue;
         for (int c = 0; c < 3; ++c) {
-            const double m = pixel_mean(i, c);
-            total += mean_variance(i, c) / (m * m + epsilon);
+            const double m = mean(i, c);
+            total += variance(i, c) / (m * m + epsilon);
         }
     }
     return std::sqrt(total / double(count));
+}
+
+double Film::estimated_relative_error() const {
+    return relative_error(
+        count_.size(),
+        [&](std::size_t i) { return count_[i] >= 2 && is_object_pixel(float(hits_[i]) / float(count_[i])); },
+        [&](std::size_t i, int c) { return pixel_mean(i, c); },
+        [&](std::size_t i, int c) { return mean_variance(i, c); });
+}
+
+double Film::relative_error_across(const std::vector<Film>& groups) {
+    const std::size_t k = groups.size();
+    if (k < 2) throw Error("internal: an error across groups needs at least two of them");
+    const std::size_t pixels = groups[0].count_.size();
+    for (const Film& g : groups)
+        if (g.width_ != groups[0].width_ || g.height_ != groups[0].height_)
+            throw Error("internal: groups of different sizes");
+    for (std::size_t i = 0; i < pixels; ++i)
+        for (const Film& g : groups)
+            if (g.count_[i] == 0 || g.count_[i] != groups[0].count_[i])
+                throw Error("internal: the groups must hold equally many samples in every pixel");
+    const auto object = [&](std::size_t i) {
+        std::uint64_t hits = 0, count = 0;
+        for (const Film& g : groups) hits += g.hits_[i], count += g.count_[i];
+        return is_object_pixel(float(double(hits) / double(count)));
+    };
+    const auto mean = [&](std::size_t i, int c) {
+        double m = 0.0;
+        for (const Film& g : groups) m += g.pixel_mean(i, c);
+        return m / double(k);
+    };
+    const auto variance = [&](std::size_t i, int c) {
+        const double m = mean(i, c);
+        double v = 0.0;
+        for (const Film& g : groups) {
+            const double d = g.pixel_mean(i, c) - m;
+            v += d * d;
+        }
+        return v / double(k - 1);
+    };
+    return relative_error(pixels, object, mean, variance);
 }
 
 std::vector<float> Film::rgba(bool alpha_is_coverage) const {

@@ -378,6 +378,26 @@ TEST_CASE("a volume or a film larger than the memory available is refused at onc
     CHECK(dir.entries() == 0);
 }
 
+TEST_CASE("bench convergence: a job's error across batches beside the film's own, and its slope", "[cli][render]") {
+    TempDir dir;
+    {
+        std::ofstream job(dir.file("job.json"));
+        job << R"({"scene": {"mesh": ")" << kBlob << R"(", "boundary": "fresnel"},
+                   "medium": {"sigma_s": [2, 4, 6], "sigma_a": [0.5, 0.5, 0.5]},
+                   "camera": {"width": 24, "height": 24},
+                   "outputs": {"out": "unused.exr"}})";
+    }
+    const Result r = run(dir, "bench convergence --job " + dir.file("job.json") + " --batches 4 --batch-spp 32");
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    // Rows for groups of 1 and 2 batches and the whole, then the slope from 64 spp on.
+    CHECK_THAT(r.out, Catch::Contains("error (across)"));
+    CHECK_THAT(r.out, Catch::Contains("log-log slope from 64 to 128 spp"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("unused.exr")));
+    require_clean_failure(dir, "bench convergence --job " + dir.file("job.json") + " --batches 3", "--batches");
+    require_clean_failure(dir, "bench convergence --job " + dir.file("missing.json"), "missing.json");
+}
+
 TEST_CASE("render: --out x.png writes the PNG once", "[cli][render]") {
     TempDir dir;
     const Result r = run(dir, "render --mesh " + kBlob + " --sigma-s 1 --sigma-a 1 --width 8 --height 8 --spp 2 --out " +

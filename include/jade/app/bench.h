@@ -35,6 +35,23 @@ struct RenderBenchOptions {
 };
 int run_render_benchmark(const RenderBenchOptions& options);
 
+// How a render's true error falls with its samples: the job's render
+// (`render --job`, e.g. a pipeline's report.json) as `batches` independent
+// batches of `batch_spp` samples per pixel (app/render_job.h). For groups of
+// 1, 2, 4, … batches it prints the samples per pixel, seconds, the relative
+// error measured across the groups (Film::relative_error_across, the
+// truth's estimate) and the film's own estimate (the mean of the groups'),
+// then the whole render's (across: the one-batch error over √batches, the
+// batches being independent), and both measures' log–log slopes against
+// samples (the batches cost alike: against seconds too) from 64 samples
+// per pixel on. Returns 0.
+struct ConvergenceBenchOptions {
+    std::string job;       // a job document or a report.json
+    int batches = 8;
+    int batch_spp = 32;
+};
+int run_convergence_benchmark(const ConvergenceBenchOptions& options);
+
 // Stiff media (docs/stiff-media.md): the white furnace (albedo 1 in a unit
 // sphere behind the exact boundary under a unit sky, so every pixel's truth
 // is 1) at σ_t = 1, 10, …, 10⁵ per unit length, with sphere walks and with
