@@ -77,16 +77,21 @@ std::unique_ptr<LoadedMedium> load_medium(const RenderJob& job, const Cube& cube
     return m;
 }
 
-void validate_job(const RenderJob& job) {
+// What any render of the job needs, its outputs aside.
+void validate_scene_of(const RenderJob& job) {
     job.settings.validate();
     if (job.mesh.empty()) throw Error("--mesh is required (or a --job that names one)");
-    if (job.out.empty()) throw Error("--out is required (or a --job that names it)");
     if (!(job.exposure >= 0.f) || !std::isfinite(job.exposure))
         throw Error("--exposure must be a finite number >= 0 (0: the volume's fitted one, or 1)");
     if (job.volume.empty() == !(job.sigma_s || job.sigma_a))
         throw Error("give either --volume or a homogeneous medium (--sigma-s/--sigma-a)");
     if (job.volume.empty() && (job.ks || job.contrast))
         throw Error("--ks and --contrast apply to a jaderender --volume, not to a homogeneous medium");
+}
+
+void validate_job(const RenderJob& job) {
+    validate_scene_of(job);
+    if (job.out.empty()) throw Error("--out is required (or a --job that names it)");
 }
 
 // The job's scene with its medium in it, ready to render.
@@ -125,7 +130,7 @@ void render_piece(const RenderJob& job, const PieceRange& piece, const Scene& sc
 
 RenderBatches render_job_batches(const RenderJob& job, int batches, int batch_spp,
                                  const std::function<void(int, double)>& on_batch) {
-    validate_job(job);
+    validate_scene_of(job);
     if (batches < 2 || batch_spp < 2) throw Error("--batches and --batch-spp must be at least 2");
     if (double(batches) * batch_spp > double(std::numeric_limits<int>::max()))
         throw Error("--batches times --batch-spp is too many samples per pixel");

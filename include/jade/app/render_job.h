@@ -23,10 +23,6 @@ struct RenderJobResult {
     float exposure = 1.f;               // the PNG's: the job's, the volume's fitted one, or 1
 };
 
-// Validates the job, loads everything, renders, writes the outputs (each whole
-// or not at all). Throws jade::Error with one line naming the bad input.
-// With a `piece`, renders only that range and writes it as a piece of the
-// render (app/render_piece.h) instead of the image.
 // The job's render as `batches` independent batches of `batch_spp` samples
 // per pixel each: samples [j·n, (j + 1)·n) of every pixel, the pieces of one
 // render of batches·n samples (merged they are bit-identical to it). The
@@ -42,6 +38,10 @@ struct RenderBatches {
 RenderBatches render_job_batches(const RenderJob& job, int batches, int batch_spp,
                                  const std::function<void(int, double)>& on_batch = nullptr);
 
+// Validates the job, loads everything, renders, writes the outputs (each whole
+// or not at all). Throws jade::Error with one line naming the bad input.
+// With a `piece`, renders only that range and writes it as a piece of the
+// render (app/render_piece.h) instead of the image.
 RenderJobResult run_render_job(const RenderJob& job, Progress* progress = nullptr,
                                const std::function<void(const PassRecord&)>& on_pass = nullptr,
                                const PieceRange* piece = nullptr);
