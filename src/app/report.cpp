@@ -29,7 +29,7 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
                              "S_photo_scaled", "S_material", "S_material_noise", "A_final_size"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",density_scale,structure,shading\n";
+    s += ",density_scale,structure,shading,from_final_size\n";
     char buf[64];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
@@ -41,7 +41,8 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d\n", r.density_scale, r.structure, r.shading ? 1 : 0);
+        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d,%d\n", r.density_scale, r.structure, r.shading ? 1 : 0,
+                      r.from_final_size ? 1 : 0);
         s += buf;
     }
     return s;

@@ -81,6 +81,15 @@ int fitting_width(const CameraParams& camera, const FitOptions& options) {
     return options.width > 0 ? options.width : std::max(32, camera.width / 4);
 }
 
+// The whole factor by which the final camera is larger than the fitting
+// camera in both sides, else 0 (box_factor_).
+int box_factor(const PinholeCamera& final_camera, const PinholeCamera& fitting) {
+    const int f = final_camera.width() / fitting.width();
+    const bool whole = f > 1 && final_camera.width() == f * fitting.width() &&
+                       final_camera.height() == f * fitting.height();
+    return whole ? f : 0;
+}
+
 }  // namespace
 
 FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
@@ -94,7 +103,8 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
       pixels_per_side_(render_pixels_per_side(at_width(camera, fitting_width(camera, options)), volume.cube)),
       spread_at_final_size_(fitting_width(camera, options) < camera.width),
       final_camera_(camera),
-      spread_pixels_per_side_(spread_at_final_size_ ? render_pixels_per_side(camera, volume.cube) : pixels_per_side_) {
+      spread_pixels_per_side_(spread_at_final_size_ ? render_pixels_per_side(camera, volume.cube) : pixels_per_side_),
+      box_factor_(box_factor(final_camera_, camera_)) {
     options_.validate();
     settings_.time_limit = 0;
     settings_.target_error = 0;
@@ -189,7 +199,7 @@ FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<
     FitRecord rec;
     rec.iteration = int(outcome_.records.size());
     rec.seconds = clock_.seconds();
-    rec.spp = outcome_.spp;
+    rec.spp = film.spp();
     rec.ks = ks;
     rec.contrast = contrast;
     rec.density_scale = density_scale_;
@@ -346,7 +356,11 @@ int FitSession::spread_spp() const {
     return std::max(kMinSpreadSpp, int(std::lround(outcome_.spp * pixel_ratio)));
 }
 
-int FitSession::fitting_renders() const { return int(outcome_.records.size()) + spread_renders_; }
+int FitSession::fitting_renders() const {
+    const auto rendered = std::count_if(outcome_.records.begin(), outcome_.records.end(),
+                                        [](const FitRecord& r) { return !r.from_final_size; });
+    return int(rendered) + spread_renders_;
+}
 
 namespace {
 // The most fitting renders the brightness check takes to move k_s.
@@ -388,9 +402,29 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
     }
     for (int c = 0; c < 3; ++c) f.delta[c] = fitted[c] ? at[c]->delta[c] + f.size_change[c] : 0.0;
     f.expected = f.delta;
-    // Secant steps at the fitting size toward A_photo − size_change, from
-    // the fit's slope (a bisection's slope is a secant over the whole
-    // bracket, and A is curved in k_s: the local one is found here).
+    // ΔA expected at full size at k: where the fit rendered at full size, a
+    // render there like its steps' (same samples per image, same random
+    // numbers, A extrapolated from its halves); else at the fitting size,
+    // less the change of A with size.
+    const auto foresee = [&](const std::array<double, 3>& k) {
+        std::array<double, 3> a{};
+        if (f.from_fit) {
+            a = extrapolated_brightness(
+                with_medium(k, outcome_.contrast, spread_spp(),
+                            [&](const Scene& scene, const RenderSettings& settings) {
+                                return render_quarters(scene, final_camera_, settings);
+                            }),
+                outcome_.exposure);
+        } else {
+            a = look(camera_, k, outcome_.spp).a;
+            for (int c = 0; c < 3; ++c) a[c] += f.size_change[c];
+        }
+        for (int c = 0; c < 3; ++c) a[c] -= photo_histogram_.mean(c);
+        return a;
+    };
+    // Secant steps from the fit's slope (a bisection's slope is a secant
+    // over the whole bracket, and A is curved in k_s: the local one is
+    // found here).
     std::array<double, 3> slope = outcome_.brightness_slope;
     for (int step = 0; step < kMaxBrightnessRenders; ++step) {
         std::array<double, 3> k = f.ks;
@@ -402,14 +436,13 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
                 moved = moved || k[c] != f.ks[c];
             }
         if (!moved) break;
-        const DisplayStatistics st = look(camera_, k, outcome_.spp);
+        const std::array<double, 3> expected = foresee(k);
         for (int c = 0; c < 3; ++c) {
             if (k[c] == f.ks[c]) continue;
-            const double expected = st.a[c] - photo_histogram_.mean(c) + f.size_change[c];
-            const double secant = (expected - f.expected[c]) / (k[c] - f.ks[c]);
+            const double secant = (expected[c] - f.expected[c]) / (k[c] - f.ks[c]);
             if (secant > 0.0) slope[c] = secant;
             f.ks[c] = k[c];
-            f.expected[c] = expected;
+            f.expected[c] = expected[c];
         }
         ++f.renders;
     }
@@ -521,16 +554,20 @@ struct FitSession::ContrastSearch {
 
 // One step of --fit contrast at (k_s, g): the volume and its mean medium
 // (contrast 0: the shading) in two halves each through the spread camera,
-// for S_material, and the volume at the fitting size, for A (the merged
-// halves where the spread camera is the fitting renders' own; its shading
-// render is then a row of fit.csv). The renders at the final size are not
-// rows of fit.csv: A, D and the structure there would not compare with the
-// fitting renders'. A fitting render at the same k_s, contrast and density
-// scale as one made before (the first step's, at the k_s search's result)
-// would be the same image: that render's record serves instead.
+// for S_material, and the volume at the fitting size, for fit.csv's row (the
+// merged halves where the spread camera is the fitting renders' own; its
+// shading render is then a row too). A, D and the structure at the final
+// size would not compare with the fitting renders' rows, so the row is taken
+// at the fitting size: from the final-size volume render box-downsampled to
+// it where the sizes allow (box_factor_: the same samples in the fitting
+// camera's pixels, no render of its own), else from a fitting render. A
+// fitting render at the same k_s, contrast and density scale as one made
+// before (the first step's, at the k_s search's result) would be the same
+// image: that render's record serves instead.
 struct FitSession::StepRenders {
     SplitFilms shading, render;
     std::optional<Film> whole;  // none where an earlier record serves
+    bool downsampled = false;   // whole is render's, box-downsampled
 };
 
 FitRecord* FitSession::rendered_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast) {
@@ -544,8 +581,10 @@ FitSession::StepRenders FitSession::step_renders(const std::array<double, 3>& ks
     StepRenders r{split_render(spread_camera(), ks, {0.0, 0.0, 0.0}, spread_spp()),
                   split_render(spread_camera(), ks, contrast, spread_spp()), {}};
     if (spread_at_final_size_) {
-        if (!rendered_at(ks, contrast)) r.whole = fitting_render(ks, contrast).film;
         spread_renders_ += 2;
+        if (rendered_at(ks, contrast)) return r;
+        r.downsampled = box_factor_ > 0;
+        r.whole = r.downsampled ? box_downsampled(r.render.merged(), box_factor_) : fitting_render(ks, contrast).film;
     } else {
         r.whole = r.render.merged();
         record(ks, {0.0, 0.0, 0.0}, r.shading.merged()).shading = true;
@@ -590,6 +629,7 @@ void FitSession::fit_contrast() {
         }
         const MaterialSpread spread = material_spread(step.render, step.shading, outcome_.exposure, block);
         FitRecord& rec = step.whole ? record(st.k, st.g, *step.whole) : *rendered_at(st.k, st.g);
+        if (step.whole) rec.from_final_size = step.downsampled;
         rec.s_material = spread.s;
         rec.s_material_noise = spread.noise;
         rec.s_photo_scaled = s_photo;

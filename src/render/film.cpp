@@ -299,6 +299,38 @@ std::vector<float> Film::rgba(bool alpha_is_coverage) const {
     return out;
 }
 
+Film box_downsampled(const Film& film, int factor) {
+    if (factor < 1 || film.width() % factor != 0 || film.height() % factor != 0)
+        throw Error("internal: a film of " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
+                    " cannot be box-downsampled by " + std::to_string(factor));
+    Film::Sums s;
+    s.width = film.width() / factor;
+    s.height = film.height() / factor;
+    const std::size_t n = std::size_t(s.width) * s.height;
+    s.sum.assign(3 * n, 0);
+    s.sum_sq.assign(3 * n, 0);
+    s.count.assign(n, 0);
+    s.hits.assign(n, 0);
+    s.stratum_sum.assign(3 * kOtherStrata * n, 0);
+    s.stratum_count.assign(kOtherStrata * n, 0);
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const std::size_t i = std::size_t(y) * film.width() + x;
+            const std::size_t o = std::size_t(y / factor) * s.width + x / factor;
+            for (int c = 0; c < 3; ++c) {
+                s.sum[3 * o + c] += film.sums()[3 * i + c];
+                s.sum_sq[3 * o + c] += film.sums_of_squares()[3 * i + c];
+            }
+            s.count[o] += film.counts()[i];
+            s.hits[o] += film.object_hits()[i];
+            for (int k = 0; k < 3 * kOtherStrata; ++k)
+                s.stratum_sum[3 * kOtherStrata * o + k] += film.stratum_sums()[3 * kOtherStrata * i + k];
+            for (int k = 0; k < kOtherStrata; ++k)
+                s.stratum_count[kOtherStrata * o + k] += film.stratum_counts()[kOtherStrata * i + k];
+        }
+    return Film::from_sums(std::move(s));
+}
+
 ReferenceError compare_with_reference(const Film& film, const ImageF32& ref) {
     if (ref.width != film.width() || ref.height != film.height() || ref.channels < 3)
         throw Error("the reference image is " + std::to_string(ref.width) + "x" +

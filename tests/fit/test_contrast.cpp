@@ -348,9 +348,27 @@ TEST_CASE("contrast fit: a render at a known k_s and contrast fitted from (0 1) 
     REQUIRE(out.converged);
     CHECK(out.width == 24);
     CHECK(out.renders <= options.max_renders);
-    // Two renders at 64² a step are counted, and are not rows of fit.csv.
-    CHECK(out.renders > int(out.records.size()));
-    for (const FitRecord& r : out.records) CHECK_FALSE(r.shading);
+    // Two renders at 48² a step are counted, and are not rows of fit.csv;
+    // the steps' rows are their volume renders box-downsampled to 24²
+    // (48² is twice 24² in both sides), at 4 × 64 samples per pixel: rows
+    // without a render of their own.
+    int rendered_rows = 0, downsampled_rows = 0;
+    for (const FitRecord& r : out.records) {
+        CHECK_FALSE(r.shading);
+        if (r.from_final_size) {
+            ++downsampled_rows;
+            CHECK(r.spp == 256);
+            CHECK(r.a_final_size[0] >= 0.0);
+        } else {
+            ++rendered_rows;
+        }
+    }
+    // Every step made a row of its own but the first where it stood at a
+    // k_s render's (k_s, g): that row serves.
+    CHECK(downsampled_rows >= 1);
+    const int at_final_size = out.renders - rendered_rows;
+    CHECK(at_final_size % 2 == 0);
+    CHECK((at_final_size / 2 == downsampled_rows || at_final_size / 2 == downsampled_rows + 1));
     const double final_pixels_per_side = render_pixels_per_side(t.camera, t.volume.cube);
     const std::array<double, 3> target = photo_spread(photo, final_pixels_per_side / out.material_block);
     for (int c = 0; c < 3; ++c) CHECK(out.s_photo[c] == target[c]);

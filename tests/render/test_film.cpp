@@ -1,6 +1,7 @@
 // The film's statistics against their textbook definitions.
 
 #include "jade/render/film.h"
+#include "jade/core/error.h"
 #include "jade/core/random.h"
 
 #include <catch2/catch.hpp>
@@ -256,4 +257,31 @@ TEST_CASE("the error across groups agrees with the film's own estimate where the
     Film fewer(64, 64);
     fewer.add_sample(0, 0, Spectrum(1.f), true);
     CHECK_THROWS(Film::relative_error_across({groups[0], fewer}));
+}
+
+TEST_CASE("a box-downsampled film holds exactly the sums of the samples dealt to its coarse pixels", "[film]") {
+    // Truth: each sample dealt straight to the coarse pixel its fine pixel
+    // lies in, on a film of that size.
+    constexpr int kFactor = 3;
+    Film fine(6, 9), coarse(2, 3);
+    SplitMix64 rng(11);
+    for (int n = 0; n < 4000; ++n) {
+        const int x = int(rng.below(6)), y = int(rng.below(9));
+        const Spectrum v(float(rng.uniform()), float(3.0 * rng.uniform()), float(rng.uniform() * rng.uniform()));
+        const bool hit = rng.uniform() < 0.7;
+        const int stratum = int(rng.below(Film::kStrata));
+        fine.add_sample(x, y, v, hit, stratum);
+        coarse.add_sample(x / kFactor, y / kFactor, v, hit, stratum);
+    }
+    const Film down = box_downsampled(fine, kFactor);
+    REQUIRE(down.width() == 2);
+    REQUIRE(down.height() == 3);
+    CHECK(down.sums() == coarse.sums());
+    CHECK(down.sums_of_squares() == coarse.sums_of_squares());
+    CHECK(down.counts() == coarse.counts());
+    CHECK(down.object_hits() == coarse.object_hits());
+    CHECK(down.stratum_sums() == coarse.stratum_sums());
+    CHECK(down.stratum_counts() == coarse.stratum_counts());
+    CHECK_THROWS_AS(box_downsampled(fine, 4), Error);
+    CHECK_THROWS_AS(box_downsampled(fine, 0), Error);
 }

@@ -72,6 +72,9 @@ struct FitRecord {
     // render that clips has a brightness that is only a bound).
     std::array<double, 3> at_black{}, at_white{};
     bool shading = false;                          // a render of the mean medium (contrast 0), not a fit step
+    // Measured on a step's renders at the final size, box-downsampled to the
+    // fitting size (box_downsampled): the row of a render that was not made.
+    bool from_final_size = false;
 };
 
 struct FitOutcome {
@@ -121,14 +124,18 @@ public:
     // lower A (sRGB is concave; the demo's blue by 2.3 levels from 128² to
     // 512²). The change of A with size, added to the fitted ΔA, is the ΔA
     // expected at full size. --fit contrast rendered every step at full
-    // size: A there (extrapolated_brightness) less the step's fitting render's
-    // A gives the change at no cost. Otherwise renders at the outcome's k_s,
-    // contrast and density scale at both sizes, each with `spp` samples per
-    // pixel, give it (their noise, alike per pixel, biases both alike).
-    // Where a channel is foreseen off by 0.4 of the tolerance or more (the
-    // foresight's own error is up to 0.5 levels), k_s moves by secant steps
-    // at the fitting size (at most 3 renders) until the ΔA expected at full
-    // size is within that (docs/design.md, "The fit"). Call after run().
+    // size: A there (extrapolated_brightness) is the foresight, and less the
+    // step's fitting-size A gives the change at no cost; k_s's secant steps
+    // are then taken with renders at full size too (as many samples per
+    // image as a fitting render, the steps' random numbers). Otherwise
+    // renders at the outcome's k_s, contrast and density scale at both
+    // sizes, each with `spp` samples per pixel, give the change (their
+    // noise, alike per pixel, biases both alike), and the steps are taken at
+    // the fitting size toward the photo's A less it. Where a channel is
+    // foreseen off by 0.4 of the tolerance or more (the foresight's own
+    // error is up to 0.5 levels), k_s moves by secant steps (at most 3
+    // renders) until the ΔA expected at full size is within that
+    // (docs/design.md, "The fit"). Call after run().
     struct FinalBrightness {
         std::array<double, 3> size_change{};  // A at full size less A at the fitting size
         std::array<double, 3> delta{};     // ΔA expected at full size at the fitted k_s
@@ -148,7 +155,7 @@ private:
     struct StepRenders;
     StepRenders step_renders(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
     FitRecord* rendered_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
-    int step_cost() const { return spread_at_final_size_ ? 3 : 2; }
+    int step_cost() const { return spread_at_final_size_ && box_factor_ == 0 ? 3 : 2; }
     template <class How>
     auto with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
                      How how) const;
@@ -193,6 +200,10 @@ private:
     PinholeCamera final_camera_;
     const PinholeCamera& spread_camera() const { return spread_at_final_size_ ? final_camera_ : camera_; }
     double spread_pixels_per_side_;  // of spread_camera()
+    // The final camera's width and height over the fitting camera's where
+    // both are that whole multiple (a final-size render then holds a
+    // fitting-size one: box_downsampled), else 0.
+    int box_factor_;
     int spread_renders_ = 0;         // renders at the final size (two a step; not rows of fit.csv)
     // The density scale of the fitting renders and the majorant they share
     // (that of k_s = k_max at every contrast, at this density scale).

@@ -130,6 +130,15 @@ private:
     std::vector<std::uint32_t> stratum_count_;  // strata 1 …, per pixel
 };
 
+// The same samples on a film `factor` times coarser in each direction: a
+// pixel holds every sample of the factor × factor pixels it covers. Pixels
+// are boxes (above), so this is the film a camera of that size and framing
+// would hold had it drawn these samples itself; the sums are exact, so
+// nothing is rounded. Strata are kept, so the variance is still taken within
+// them (and includes the spread between the fine pixels: an upper bound).
+// Throws jade::Error unless factor ≥ 1 divides both sides.
+Film box_downsampled(const Film& film, int factor);
+
 // Error of a film against a reference image of the same size (RGB or more).
 struct ReferenceError {
     double rmse = 0.0;     // over all pixels and channels
