@@ -219,16 +219,8 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r, 
     } catch (const Error& e) {
         fail_file(path, e.what());
     }
-    Film::Sums s;
-    s.width = p.full_width;
-    s.height = p.full_height;
-    const std::size_t n = std::size_t(s.width) * s.height, nc = p.channels.size();
-    s.sum.assign(3 * n, 0);
-    s.sum_sq.assign(3 * n, 0);
-    s.count.assign(n, 0);
-    s.hits.assign(n, 0);
-    s.stratum_sum.assign(3 * kOtherStrata * n, 0);
-    s.stratum_count.assign(kOtherStrata * n, 0);
+    Film::Sums s = Film::zero_sums(p.full_width, p.full_height);
+    const std::size_t nc = p.channels.size();
     const std::uint32_t expected = std::uint32_t(r.samples.last - r.samples.first);
     for (int y = 0; y < p.height; ++y)
         for (int x = 0; x < p.width; ++x) {

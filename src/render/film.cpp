@@ -70,6 +70,20 @@ Film::Film(int width, int height)
       hits_(std::size_t(width) * height, 0), stratum_sum_(std::size_t(width) * height * 3 * kOtherStrata, 0),
       stratum_count_(std::size_t(width) * height * kOtherStrata, 0) {}
 
+Film::Sums Film::zero_sums(int width, int height) {
+    Sums s;
+    s.width = width;
+    s.height = height;
+    const std::size_t n = std::size_t(std::max(width, 0)) * std::size_t(std::max(height, 0));
+    s.sum.assign(3 * n, 0);
+    s.sum_sq.assign(3 * n, 0);
+    s.count.assign(n, 0);
+    s.hits.assign(n, 0);
+    s.stratum_sum.assign(3 * kOtherStrata * n, 0);
+    s.stratum_count.assign(kOtherStrata * n, 0);
+    return s;
+}
+
 Film Film::from_sums(Sums s) {
     Film film(s.width, s.height);
     const std::size_t n = std::size_t(s.width) * s.height;
@@ -303,16 +317,7 @@ Film box_downsampled(const Film& film, int factor) {
     if (factor < 1 || film.width() % factor != 0 || film.height() % factor != 0)
         throw Error("internal: a film of " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
                     " cannot be box-downsampled by " + std::to_string(factor));
-    Film::Sums s;
-    s.width = film.width() / factor;
-    s.height = film.height() / factor;
-    const std::size_t n = std::size_t(s.width) * s.height;
-    s.sum.assign(3 * n, 0);
-    s.sum_sq.assign(3 * n, 0);
-    s.count.assign(n, 0);
-    s.hits.assign(n, 0);
-    s.stratum_sum.assign(3 * kOtherStrata * n, 0);
-    s.stratum_count.assign(kOtherStrata * n, 0);
+    Film::Sums s = Film::zero_sums(film.width() / factor, film.height() / factor);
     for (int y = 0; y < film.height(); ++y)
         for (int x = 0; x < film.width(); ++x) {
             const std::size_t i = std::size_t(y) * film.width() + x;

@@ -106,6 +106,8 @@ public:
     // A film holding exactly these sums (throws jade::Error when the sizes
     // disagree or a pixel has more object hits than samples).
     static Film from_sums(Sums sums);
+    // The sums of no samples on a film of this size, to be added to.
+    static Sums zero_sums(int width, int height);
 
 private:
     std::size_t index(int x, int y) const { return std::size_t(y) * width_ + x; }
