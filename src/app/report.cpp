@@ -82,8 +82,8 @@ RgbImage8 convergence_plot(const std::vector<PassRecord>& passes, const std::str
 
 RgbImage8 fit_plot(const std::vector<FitRecord>& rows, double tolerance) {
     PlotSpec spec;
-    spec.title = "fit: dA = A(render) - A(photo) per fitting render";
-    spec.x_label = "fitting render";
+    spec.title = "fit: dA = A(render) - A(photo) per row of fit.csv";
+    spec.x_label = "row of fit.csv";
     spec.y_label = "dA (levels)";
     spec.y_rules = {-tolerance, tolerance};
     const Rgb8 colours[3] = {Rgb8{255, 70, 70}, Rgb8{70, 230, 70}, Rgb8{90, 130, 255}};
