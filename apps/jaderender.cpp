@@ -321,6 +321,12 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "that chain); for a disc light the light guide's second chain, or without the guide "
                    "'2' under 10 degrees in radius unless --light-nee is 'cone'; '1' = neither")
         ->capture_default_str();
+    cmd.add_option("--env-share", j.settings.integrator.environment_share,
+                   "The share of medium vertices at which an environment image is estimated through a "
+                   "refracting boundary (same image; each estimate weighs 1/share, and paths that meet the "
+                   "sky are weighed against share times its density): the walk costs many path steps, and "
+                   "paths find much of a sky by themselves; 1: at every vertex")
+        ->capture_default_str();
     cmd.add_option("--light-guide", j.settings.integrator.light_guide,
                    "For a disc light behind a refracting boundary, trace the light into the object before "
                    "the render and record from which directions it arrives in each cell (straight in, "

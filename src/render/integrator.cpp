@@ -119,6 +119,8 @@ void IntegratorSettings::validate() const {
     if (max_depth < 1) throw Error("--max-depth must be at least 1");
     if (rr_depth < 0) throw Error("internal: the Russian roulette depth must not be negative");
     if (light_guide_photons < 1) throw Error("internal: the light guide needs at least one ray");
+    if (!(environment_share > 0.f && environment_share <= 1.f))
+        throw Error("--env-share must lie in (0, 1]");
 }
 
 // Everything one path carries from event to event.

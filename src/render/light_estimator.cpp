@@ -1,4 +1,5 @@
 #include "jade/render/light_estimator.h"
+#include "jade/render/light_estimators/thinned.h"
 
 #include "jade/render/integrator.h"
 #include "jade/render/light_estimators/guided.h"
@@ -66,10 +67,20 @@ bool environment_sampled(const Scene& scene, const IntegratorSettings& settings)
            settings.light_through_boundary != LightThroughBoundary::Off;
 }
 
-std::unique_ptr<LightEstimator> environment_estimator(const Scene& scene) {
+// Through a dielectric, the environment's walks along a chain, estimated
+// at a share of the vertices only (IntegratorSettings::environment_share;
+// ThinnedEstimator).
+std::unique_ptr<LightEstimator> environment_walk(const Scene& scene, const IntegratorSettings& settings,
+                                                 SpecularChain chain) {
+    auto walk = std::make_unique<ManifoldEstimator>(scene, scene.environment, chain);
+    if (settings.environment_share >= 1.f) return walk;
+    return std::make_unique<ThinnedEstimator>(std::move(walk), settings.environment_share);
+}
+
+std::unique_ptr<LightEstimator> environment_estimator(const Scene& scene, const IntegratorSettings& settings) {
     if (scene.interface.mode == BoundaryMode::None)
         return std::make_unique<ShadowRayEstimator>(scene, scene.environment, LightHits::Weighted);
-    return std::make_unique<ManifoldEstimator>(scene, scene.environment, SpecularChain::Refraction);
+    return environment_walk(scene, settings, SpecularChain::Refraction);
 }
 
 // Behind a dielectric, light that reaches a vertex after one internal
@@ -134,10 +145,9 @@ LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettin
             if (*estimator) e.directional.push_back(std::move(*estimator));
     }
     if (environment_sampled(scene, settings)) {
-        e.environment.push_back(environment_estimator(scene));
+        e.environment.push_back(environment_estimator(scene, settings));
         if (reflected_chain(scene, settings, scene.environment))
-            e.environment.push_back(
-                std::make_unique<ManifoldEstimator>(scene, scene.environment, SpecularChain::ReflectionRefraction));
+            e.environment.push_back(environment_walk(scene, settings, SpecularChain::ReflectionRefraction));
     }
     return e;
 }
