@@ -1,11 +1,11 @@
 #include "jade/render/light_estimator.h"
-#include "jade/render/light_estimators/thinned.h"
 
 #include "jade/render/integrator.h"
 #include "jade/render/light_estimators/guided.h"
 #include "jade/render/light_estimators/manifold.h"
 #include "jade/render/light_estimators/refracted_cone.h"
 #include "jade/render/light_estimators/shadow_ray.h"
+#include "jade/render/light_estimators/thinned.h"
 
 namespace jade {
 

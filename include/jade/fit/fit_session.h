@@ -96,8 +96,9 @@ struct FitOutcome {
     bool exposure_matched = false;
     FitLimits limits;
     std::vector<FitRecord> records;
-    // Fitting renders made: the records, and --fit contrast's renders at the
-    // final size for S_material (FitSession::spread_spp), two a step.
+    // Fitting renders made: the records that are renders of their own (not
+    // from_final_size), and --fit contrast's renders at the final size for
+    // S_material (FitSession::spread_spp), two a step.
     int renders = 0;
     int spp = 0, width = 0, height = 0;   // of the fitting renders
     // dA/dk_s per channel near the fitted k_s (gray levels per unit), as the
