@@ -149,7 +149,7 @@ int run_render_benchmark(const RenderBenchOptions& o) {
                 (unsigned long long)c.capped_paths);
     std::printf("memory: medium %s, film %s, peak RSS %s\n",
                 format_megabytes(double(medium.memory_bytes())).c_str(),
-                format_megabytes(double(o.width) * o.height * (6 * sizeof(double) + sizeof(std::uint32_t))).c_str(),
+                format_megabytes(double(Film::memory_bytes(o.width, o.height))).c_str(),
                 format_megabytes(double(peak_rss_bytes())).c_str());
     return 0;
 }

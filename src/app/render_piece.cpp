@@ -21,10 +21,12 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// Format 2 added the strata's sums (render/film.h); format 1's pieces, which
-// have none, read as films of one stratum.
-constexpr int kPieceFormat = 2;
+// Format 2 added the strata's sums and format 3 the replicates' (render/film.h);
+// format 1's pieces read as films of one stratum, and format 1's and 2's as
+// films of one replicate.
+constexpr int kPieceFormat = 3;
 constexpr int kOtherStrata = Film::kStrata - 1;
+constexpr int kOtherReplicates = Film::kReplicates - 1;
 constexpr const char* kPieceAttribute = "jade:piece";
 constexpr int kWords = 4;  // 32-bit words of a 128-bit sum
 constexpr const char* kChannelNames[3] = {"R", "G", "B"};
@@ -116,11 +118,32 @@ std::string piece_path(const std::string& out, const PieceRange& r, int width, i
 
 namespace {
 
-// A stratum's channel: its sum's 32-bit word w of a colour channel, or
-// (w < 0) its count.
-std::string stratum_channel(int stratum, const char* what, int w) {
-    const std::string name = "stratum" + std::to_string(stratum) + "." + what;
+// The channel of stratum or replicate k (`part` names which): its sum's
+// 32-bit word w of a colour channel, or (w < 0) its count.
+std::string part_channel(const char* part, int k, const char* what, int w) {
+    const std::string name = part + std::to_string(k) + "." + what;
     return w < 0 ? name : name + "." + std::to_string(w);
+}
+
+// The channels of parts 1 … `others` of a partition, in the order
+// push_part_values writes them.
+void push_part_channels(std::vector<std::string>& channels, const char* part, int others) {
+    for (int k = 1; k <= others; ++k) {
+        for (const char* c : kChannelNames)
+            for (int w = 0; w < kWords; ++w) channels.push_back(part_channel(part, k, c, w));
+        channels.push_back(part_channel(part, k, "count", -1));
+    }
+}
+
+void push_part_values(std::vector<std::uint32_t>& out, const std::vector<__int128>& sums,
+                      const std::vector<std::uint32_t>& counts, int others, std::size_t i) {
+    for (int k = 0; k < others; ++k) {
+        for (int c = 0; c < 3; ++c) {
+            const auto u = static_cast<unsigned __int128>(sums[3 * (others * i + k) + c]);
+            for (int w = 0; w < kWords; ++w) out.push_back(std::uint32_t(u >> (32 * w)));
+        }
+        out.push_back(counts[others * i + k]);
+    }
 }
 
 // The piece's pixels as two EXR parts: a float preview and the exact sums.
@@ -144,11 +167,8 @@ std::vector<ExrPart> piece_parts(const Film& film, const PixelBounds& b, bool tr
                 sums.channels.push_back(std::string(kind) + "." + c + "." + std::to_string(w));
     sums.channels.push_back("count");
     sums.channels.push_back("hits");
-    for (int k = 1; k <= kOtherStrata; ++k) {
-        for (const char* c : kChannelNames)
-            for (int w = 0; w < kWords; ++w) sums.channels.push_back(stratum_channel(k, c, w));
-        sums.channels.push_back(stratum_channel(k, "count", -1));
-    }
+    push_part_channels(sums.channels, "stratum", kOtherStrata);
+    push_part_channels(sums.channels, "replicate", kOtherReplicates);
     const std::vector<float> rgba = film.rgba(transparent);
     for (int y = b.y0; y < b.y1; ++y)
         for (int x = b.x0; x < b.x1; ++x) {
@@ -161,13 +181,8 @@ std::vector<ExrPart> piece_parts(const Film& film, const PixelBounds& b, bool tr
                 }
             sums.uints.push_back(film.counts()[i]);
             sums.uints.push_back(film.object_hits()[i]);
-            for (int k = 0; k < kOtherStrata; ++k) {
-                for (int c = 0; c < 3; ++c) {
-                    const auto u = static_cast<unsigned __int128>(film.stratum_sums()[3 * (kOtherStrata * i + k) + c]);
-                    for (int w = 0; w < kWords; ++w) sums.uints.push_back(std::uint32_t(u >> (32 * w)));
-                }
-                sums.uints.push_back(film.stratum_counts()[kOtherStrata * i + k]);
-            }
+            push_part_values(sums.uints, film.stratum_sums(), film.stratum_counts(), kOtherStrata, i);
+            push_part_values(sums.uints, film.replicate_sums(), film.replicate_counts(), kOtherReplicates, i);
         }
     return {preview, sums};
 }
@@ -192,6 +207,20 @@ void write_render_piece(const std::string& path, const RenderJob& job, const Pie
 
 namespace {
 
+// Parts 1 … `others` of pixel i's partition from its channel values `px`,
+// the channels' indices starting at `at` (push_part_channels' order).
+void read_part_values(const std::uint32_t* px, const int* at, std::vector<__int128>& sums,
+                      std::vector<std::uint32_t>& counts, int others, std::size_t i) {
+    for (int k = 0; k < others; ++k, at += 3 * kWords + 1) {
+        for (int c = 0; c < 3; ++c) {
+            unsigned __int128 u = 0;
+            for (int w = 0; w < kWords; ++w) u |= static_cast<unsigned __int128>(px[at[kWords * c + w]]) << (32 * w);
+            sums[3 * (others * i + k) + c] = static_cast<__int128>(u);
+        }
+        counts[others * i + k] = px[at[3 * kWords]];
+    }
+}
+
 // The film of a piece's "sums" part, checked against the piece's range.
 Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r, int format) {
     std::vector<int> index;
@@ -202,12 +231,11 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r, 
     index.push_back(p.channel("count"));
     index.push_back(p.channel("hits"));
     const std::size_t strata_at = index.size();
-    if (format >= 2)
-        for (int k = 1; k <= kOtherStrata; ++k) {
-            for (const char* c : kChannelNames)
-                for (int w = 0; w < kWords; ++w) index.push_back(p.channel(stratum_channel(k, c, w)));
-            index.push_back(p.channel(stratum_channel(k, "count", -1)));
-        }
+    std::vector<std::string> parts;
+    if (format >= 2) push_part_channels(parts, "stratum", kOtherStrata);
+    const std::size_t replicates_at = strata_at + parts.size();
+    if (format >= 3) push_part_channels(parts, "replicate", kOtherReplicates);
+    for (const std::string& name : parts) index.push_back(p.channel(name));
     if (!p.integer || std::count(index.begin(), index.end(), -1) > 0)
         fail_file(path, "the piece's sums lack channels");
     const PixelBounds& b = r.pixels;
@@ -233,17 +261,9 @@ Film piece_film(const std::string& path, const ExrPart& p, const PieceRange& r, 
             }
             s.count[i] = px[index[6 * kWords]];
             s.hits[i] = px[index[6 * kWords + 1]];
-            if (format >= 2)
-                for (int k = 0; k < kOtherStrata; ++k) {
-                    const int* at = &index[strata_at + std::size_t(k) * (3 * kWords + 1)];
-                    for (int c = 0; c < 3; ++c) {
-                        unsigned __int128 u = 0;
-                        for (int w = 0; w < kWords; ++w)
-                            u |= static_cast<unsigned __int128>(px[at[kWords * c + w]]) << (32 * w);
-                        s.stratum_sum[3 * (kOtherStrata * i + k) + c] = static_cast<__int128>(u);
-                    }
-                    s.stratum_count[kOtherStrata * i + k] = px[at[3 * kWords]];
-                }
+            if (format >= 2) read_part_values(px, &index[strata_at], s.stratum_sum, s.stratum_count, kOtherStrata, i);
+            if (format >= 3)
+                read_part_values(px, &index[replicates_at], s.replicate_sum, s.replicate_count, kOtherReplicates, i);
             if (s.count[i] != expected) fail_file(path, "a pixel's sample count disagrees with the piece's range");
         }
     try {
@@ -272,7 +292,7 @@ RenderPiece read_render_piece(const std::string& path) {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) fail_file(path, "no such piece (not rendered yet, or rendered with flags beside --job: then name the pieces)");
     const std::vector<ExrPart> parts =
-        read_exr_parts(path, 2, 6 * kWords + 2 + kOtherStrata * (3 * kWords + 1) + 4);
+        read_exr_parts(path, 2, 6 * kWords + 2 + (kOtherStrata + kOtherReplicates) * (3 * kWords + 1) + 4);
     const ExrPart* sums = nullptr;
     for (const ExrPart& p : parts)
         if (p.name == "sums" && !p.attribute(kPieceAttribute).empty()) sums = &p;
@@ -284,7 +304,7 @@ RenderPiece read_render_piece(const std::string& path) {
         fail_file(path, "the piece's jade:piece attribute is not valid JSON");
     }
     const int format = meta.is_object() ? meta.value("format", 0) : 0;
-    if (format != 1 && format != kPieceFormat)
+    if (format < 1 || format > kPieceFormat)
         fail_file(path, "is a piece of an unknown format (this jaderender reads formats 1 to " +
                             std::to_string(kPieceFormat) + ")");
     RenderPiece piece;

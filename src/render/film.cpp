@@ -49,12 +49,50 @@ __int128 to_fixed(double v) {
 }  // namespace
 
 namespace {
-// The strata besides stratum 0, whose sums and counts are kept apart.
+// The strata and replicates besides number 0, whose sums and counts are
+// kept apart (number 0's are what the others leave of the pixel's).
 constexpr int kOtherStrata = Film::kStrata - 1;
+constexpr int kOtherReplicates = Film::kReplicates - 1;
 // A film's memory per pixel: Σx and Σx² per channel, the two counts, the
-// other strata's Σx and counts, and the float RGBA image written from it.
-constexpr std::uint64_t kFilmBytesPerPixel = (2 + kOtherStrata) * 3 * sizeof(__int128) +
-                                             (2 + kOtherStrata) * sizeof(std::uint32_t) + 4 * sizeof(float);
+// other strata's and replicates' Σx and counts, and the float RGBA image
+// written from it.
+constexpr std::uint64_t kFilmBytesPerPixel = (2 + kOtherStrata + kOtherReplicates) * 3 * sizeof(__int128) +
+                                             (2 + kOtherStrata + kOtherReplicates) * sizeof(std::uint32_t) +
+                                             4 * sizeof(float);
+
+// Pixel i's sums in channel c and counts per part of a partition of its
+// samples into 1 + `others` parts whose parts 1 … are stored apart, part 0
+// being what they leave of the pixel's `total` and `total_count`; returns
+// how many parts hold samples.
+int split_sums(std::size_t i, int c, int others, const std::vector<__int128>& other_sums,
+               const std::vector<std::uint32_t>& other_counts, __int128 total, std::uint32_t total_count,
+               double* sums, std::uint32_t* counts) {
+    int filled = 0;
+    for (int k = 0; k < others; ++k) {
+        const __int128 fixed = other_sums[3 * (others * i + k) + c];
+        counts[k + 1] = other_counts[others * i + k];
+        sums[k + 1] = double(fixed) / kUnit;
+        total -= fixed;
+        total_count -= counts[k + 1];
+        filled += counts[k + 1] > 0 ? 1 : 0;
+    }
+    counts[0] = total_count;
+    sums[0] = double(total) / kUnit;
+    return filled + (total_count > 0 ? 1 : 0);
+}
+
+// The checks of one partition's sums read back (Film::from_sums).
+void check_parts(const std::vector<__int128>& sums, const std::vector<std::uint32_t>& counts,
+                 const std::vector<std::uint32_t>& total, int others, const char* what) {
+    const std::size_t n = total.size();
+    if (sums.size() != 3 * std::size_t(others) * n || counts.size() != std::size_t(others) * n)
+        throw Error(std::string("a film's ") + what + " do not match its size");
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint64_t in_parts = 0;
+        for (int k = 0; k < others; ++k) in_parts += counts[std::size_t(others) * i + k];
+        if (in_parts > total[i]) throw Error(std::string("a film's pixel has more samples in its ") + what + " than in all");
+    }
+}
 
 int checked_size(int width, int height) {
     if (width < 0 || height < 0) throw Error("internal: a film's size is negative");
@@ -68,7 +106,9 @@ Film::Film(int width, int height)
     : width_(checked_size(width, height)), height_(height), sum_(std::size_t(width) * height * 3, 0),
       sum_sq_(std::size_t(width) * height * 3, 0), count_(std::size_t(width) * height, 0),
       hits_(std::size_t(width) * height, 0), stratum_sum_(std::size_t(width) * height * 3 * kOtherStrata, 0),
-      stratum_count_(std::size_t(width) * height * kOtherStrata, 0) {}
+      stratum_count_(std::size_t(width) * height * kOtherStrata, 0),
+      replicate_sum_(std::size_t(width) * height * 3 * kOtherReplicates, 0),
+      replicate_count_(std::size_t(width) * height * kOtherReplicates, 0) {}
 
 Film::Sums Film::zero_sums(int width, int height) {
     Sums s;
@@ -81,6 +121,8 @@ Film::Sums Film::zero_sums(int width, int height) {
     s.hits.assign(n, 0);
     s.stratum_sum.assign(3 * kOtherStrata * n, 0);
     s.stratum_count.assign(kOtherStrata * n, 0);
+    s.replicate_sum.assign(3 * kOtherReplicates * n, 0);
+    s.replicate_count.assign(kOtherReplicates * n, 0);
     return s;
 }
 
@@ -89,16 +131,14 @@ Film Film::from_sums(Sums s) {
     const std::size_t n = std::size_t(s.width) * s.height;
     if (s.sum.size() != 3 * n || s.sum_sq.size() != 3 * n || s.count.size() != n || s.hits.size() != n)
         throw Error("a film's sums do not match its size");
-    if (s.stratum_sum.size() != 3 * kOtherStrata * n || s.stratum_count.size() != kOtherStrata * n)
-        throw Error("a film's strata do not match its size");
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n; ++i)
         if (s.hits[i] > s.count[i]) throw Error("a film's pixel has more object hits than samples");
-        std::uint64_t in_strata = 0;
-        for (int k = 0; k < kOtherStrata; ++k) in_strata += s.stratum_count[kOtherStrata * i + k];
-        if (in_strata > s.count[i]) throw Error("a film's pixel has more samples in its strata than in all");
-    }
+    check_parts(s.stratum_sum, s.stratum_count, s.count, kOtherStrata, "strata");
+    check_parts(s.replicate_sum, s.replicate_count, s.count, kOtherReplicates, "replicates");
     film.stratum_sum_ = std::move(s.stratum_sum);
     film.stratum_count_ = std::move(s.stratum_count);
+    film.replicate_sum_ = std::move(s.replicate_sum);
+    film.replicate_count_ = std::move(s.replicate_count);
     film.sum_ = std::move(s.sum);
     film.sum_sq_ = std::move(s.sum_sq);
     film.count_ = std::move(s.count);
@@ -118,8 +158,9 @@ int Film::fewest_samples() const {
     return count_.empty() ? 0 : int(*std::min_element(count_.begin(), count_.end()));
 }
 
-void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum) {
+void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum, int replicate) {
     if (stratum < 0 || stratum >= kStrata) throw Error("internal: a film sample's stratum is out of range");
+    if (replicate < 0 || replicate >= kReplicates) throw Error("internal: a film sample's replicate is out of range");
     const std::size_t i = index(x, y);
     for (int c = 0; c < 3; ++c) {
         const double v = radiance[c];
@@ -127,8 +168,10 @@ void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object, i
         sum_[3 * i + c] += fixed;
         sum_sq_[3 * i + c] += to_fixed(v * v);  // exact in double: v is a float
         if (stratum > 0) stratum_sum_[3 * (kOtherStrata * i + (stratum - 1)) + c] += fixed;
+        if (replicate > 0) replicate_sum_[3 * (kOtherReplicates * i + (replicate - 1)) + c] += fixed;
     }
     if (stratum > 0) ++stratum_count_[kOtherStrata * i + (stratum - 1)];
+    if (replicate > 0) ++replicate_count_[kOtherReplicates * i + (replicate - 1)];
     ++count_[i];
     hits_[i] += hit_object ? 1u : 0u;
 }
@@ -146,6 +189,8 @@ void Film::merge(const Film& o) {
     }
     for (std::size_t k = 0; k < stratum_sum_.size(); ++k) stratum_sum_[k] += o.stratum_sum_[k];
     for (std::size_t k = 0; k < stratum_count_.size(); ++k) stratum_count_[k] += o.stratum_count_[k];
+    for (std::size_t k = 0; k < replicate_sum_.size(); ++k) replicate_sum_[k] += o.replicate_sum_[k];
+    for (std::size_t k = 0; k < replicate_count_.size(); ++k) replicate_count_[k] += o.replicate_count_[k];
 }
 
 double Film::sum(std::size_t i, int c) const { return double(sum_[3 * i + c]) / kUnit; }
@@ -161,20 +206,7 @@ Spectrum Film::mean(int x, int y) const {
 // Pixel i's sums and counts in channel c per stratum (stratum 0 is what
 // the others leave), and how many strata hold samples.
 int Film::strata(std::size_t i, int c, double* sums, std::uint32_t* counts) const {
-    __int128 rest = sum_[3 * i + c];
-    std::uint32_t rest_count = count_[i];
-    int filled = 0;
-    for (int k = 0; k < kOtherStrata; ++k) {
-        const __int128 fixed = stratum_sum_[3 * (kOtherStrata * i + k) + c];
-        counts[k + 1] = stratum_count_[kOtherStrata * i + k];
-        sums[k + 1] = double(fixed) / kUnit;
-        rest -= fixed;
-        rest_count -= counts[k + 1];
-        filled += counts[k + 1] > 0 ? 1 : 0;
-    }
-    counts[0] = rest_count;
-    sums[0] = double(rest) / kUnit;
-    return filled + (rest_count > 0 ? 1 : 0);
+    return split_sums(i, c, kOtherStrata, stratum_sum_, stratum_count_, sum_[3 * i + c], count_[i], sums, counts);
 }
 
 // With samples in every stratum, the strata being equally likely (each
@@ -195,16 +227,44 @@ double Film::pixel_mean(std::size_t i, int c) const {
     return m / kStrata;
 }
 
-// The variance of pixel_mean. For the stratified mean, (1/K²) Σ_h σ_h²/n_h,
-// with σ² pooled within the strata: Σx² − Σ_h S_h²/n_h has expectation
-// Σ_h (n_h − 1) σ_h², so over n − K it is unbiased when the strata are of
-// one size (as the pixel's samples make them, to one sample). With a
-// stratum of fewer than two samples there is nothing to pool in it: the
-// sample variance over n, which also counts the spread between the strata,
-// is the safe side; for Σx/n it is the estimate itself.
+// The variance of pixel_mean. Once every replicate holds a whole turn of
+// the heroes, it is read from the spread between the replicates' means
+// (replicate_variance): their first events come from one scrambled sequence
+// each (render/pixel_sampler.h), so samples within a replicate are not
+// independent and only the replicates are. Before, from the samples as if
+// independent (sample_variance), which overstates the error of sequences.
 double Film::mean_variance(std::size_t i, int c) const {
+    if (count_[i] < 2) return std::numeric_limits<double>::quiet_NaN();
+    double sums[kReplicates];
+    std::uint32_t counts[kReplicates];
+    split_sums(i, c, kOtherReplicates, replicate_sum_, replicate_count_, sum_[3 * i + c], count_[i], sums, counts);
+    for (int r = 0; r < kReplicates; ++r)
+        if (counts[r] < std::uint32_t(kStrata)) return sample_variance(i, c);
+    // The replicates' means weigh as their shares of the samples (a pass
+    // cut short leaves them unequal): the variance of Σx/n = Σ_r (n_r/n) Y_r
+    // is estimated by R/(R − 1) Σ_r (n_r/n)² (Y_r − Σx/n)², as for the ratio
+    // estimator of cluster sampling; for replicates of one size it is the
+    // replicates' sample variance over R. Each replicate holds whole turns
+    // but for the last, so its mean is the heroes' stratified mean to one
+    // sample (an unequal last turn only widens the spread: the safe side).
+    const double n = count_[i], all = sum(i, c) / n;
+    double spread = 0.0;
+    for (int r = 0; r < kReplicates; ++r) {
+        const double share = counts[r] / n, d = sums[r] / counts[r] - all;
+        spread += share * share * d * d;
+    }
+    return spread * kReplicates / (kReplicates - 1.0);
+}
+
+// For the stratified mean, (1/K²) Σ_h σ_h²/n_h, with σ² pooled within the
+// strata: Σx² − Σ_h S_h²/n_h has expectation Σ_h (n_h − 1) σ_h², so over
+// n − K it is unbiased when the strata are of one size (as the pixel's
+// samples make them, to one sample). With a stratum of fewer than two
+// samples there is nothing to pool in it: the sample variance over n, which
+// also counts the spread between the strata, is the safe side; for Σx/n it
+// is the estimate itself.
+double Film::sample_variance(std::size_t i, int c) const {
     const double n = count_[i];
-    if (n < 2) return std::numeric_limits<double>::quiet_NaN();
     const double all = sum(i, c);
     const double sample = std::max(0.0, (sum_sq(i, c) - all * all / n) / (n - 1.0)) / n;
     double sums[kStrata];
@@ -332,6 +392,10 @@ Film box_downsampled(const Film& film, int factor) {
                 s.stratum_sum[3 * kOtherStrata * o + k] += film.stratum_sums()[3 * kOtherStrata * i + k];
             for (int k = 0; k < kOtherStrata; ++k)
                 s.stratum_count[kOtherStrata * o + k] += film.stratum_counts()[kOtherStrata * i + k];
+            for (int k = 0; k < 3 * kOtherReplicates; ++k)
+                s.replicate_sum[3 * kOtherReplicates * o + k] += film.replicate_sums()[3 * kOtherReplicates * i + k];
+            for (int k = 0; k < kOtherReplicates; ++k)
+                s.replicate_count[kOtherReplicates * o + k] += film.replicate_counts()[kOtherReplicates * i + k];
         }
     return Film::from_sums(std::move(s));
 }

@@ -152,6 +152,16 @@ struct Integrator::PathState {
     // cannot have grown enough.
     float surface_distance = -1.f;
     glm::vec3 distance_from{0.f};
+    // The number the pixel gives the first free flight drawn whole
+    // (render/pixel_sampler.h), taken once; after that, and on paths
+    // without it, the stream's.
+    float first_flight = 0.f;
+    bool first_flight_unused = false;
+    float flight_number() {
+        if (!first_flight_unused) return rng.uniform();
+        first_flight_unused = false;
+        return first_flight;
+    }
     PathSample out;
 };
 
@@ -167,20 +177,15 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, s
     }
 }
 
-PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
-                             PathCounters& counters) const {
-    const int hero = std::min(2, int(3.f * rng.uniform()));
-    return trace(origin, direction, scene_.boundary->intersect(origin, direction, 0.f, kInfinity),
-                 hero, rng, counters);
-}
-
 PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction,
-                             const std::optional<SurfaceHit>& first_hit, int hero, SampleStream& rng,
-                             PathCounters& counters) const {
+                             const std::optional<SurfaceHit>& first_hit, int hero, float first_flight,
+                             SampleStream& rng, PathCounters& counters) const {
     if (hero < 0 || hero > 2) throw Error("internal: a hero channel is 0, 1 or 2");
     ++counters.paths;
     PathState s(origin, direction, rng, counters);
     s.hero = hero;
+    s.first_flight = first_flight;
+    s.first_flight_unused = true;
     follow(s, &first_hit);
     return s.out;
 }
@@ -360,7 +365,7 @@ Integrator::Flight Integrator::fly_drawn(PathState& s, std::optional<SurfaceHit>
 std::optional<Integrator::Flight> Integrator::draw_flight(PathState& s, std::optional<SurfaceHit>& hit,
                                                           MediumProperties& at) const {
     const Spectrum mu = scene_.medium->majorant();
-    float t = mu[s.hero] > 0.f ? sample_free_flight(mu[s.hero], s.rng) : kInfinity;
+    float t = mu[s.hero] > 0.f ? free_flight(mu[s.hero], s.flight_number()) : kInfinity;
     const glm::vec3 start = s.o;
     const float query_from = s.query_from;
     s.query_from = 0.f;  // this flight ends at a collision or at the surface: a new ray either way
@@ -593,6 +598,7 @@ void Integrator::split_reflection(PathState& s, const glm::vec3& p, const glm::v
                                   float reflectance) const {
     PathState r = s;
     r.out = PathSample{};
+    r.first_flight_unused = false;  // the refracted branch's
     r.w.scale(Spectrum(reflectance), Spectrum(1.f));
     r.chain.record(p, true, true, false);
     r.d = mirror;

@@ -39,13 +39,20 @@ struct Deadline {
     bool passed() const { return clock && clock->seconds() >= seconds; }
 };
 
+// The films a render's samples go to: one, or a group of the pixel's
+// replicates each (render/pixel_sampler.h), which are independent.
+struct FilmsByReplicate {
+    std::vector<Film*> films;  // replicate r goes to films[r · size / kReplicates]
+    Film& of(int replicate) const { return *films[std::size_t(replicate) * films.size() / kReplicates]; }
+};
+
 // Samples [samples.first, samples.last) of pixel (x, y), in index order.
 // Their camera rays leave one point in nearly one direction: each packet of
 // MeshAccel::kPacket is traced at once, and every path goes on alone from
 // its first hit. A sample's random numbers start with its film position.
 void add_pixel_samples(const Scene& scene, const Integrator& integrator,
                        const PinholeCamera& camera, const RenderSettings& settings,
-                       SampleRange samples, int x, int y, Film& film, PathCounters& counters) {
+                       SampleRange samples, int x, int y, const FilmsByReplicate& out, PathCounters& counters) {
     constexpr int kPacket = MeshAccel::kPacket;
     const std::uint64_t pixel = std::uint64_t(y) * camera.width() + x;
     for (int first = samples.first; first < samples.last; first += kPacket) {
@@ -64,10 +71,13 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
         scene.boundary->intersect_packet(camera.origin(), direction.data(), n, hit.data());
         for (int i = 0; i < n; ++i) {
             const auto k = std::size_t(i);
-            const int hero = stratified_hero(settings.seed, pixel, std::uint64_t(first + i));
-            const PathSample ps = integrator.trace(camera.origin(), direction[k], hit[k], hero, rng[k], counters);
+            const auto sample = std::uint64_t(first + i);
+            const int hero = stratified_hero(settings.seed, pixel, sample);
+            const PathSample ps = integrator.trace(camera.origin(), direction[k], hit[k], hero,
+                                                   first_flight_number(settings.seed, pixel, sample), rng[k], counters);
             const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
-            film.add_sample(x, y, ps.radiance + behind, ps.hit_object, hero);
+            const int replicate = sample_replicate(sample);
+            out.of(replicate).add_sample(x, y, ps.radiance + behind, ps.hit_object, hero, replicate);
         }
     }
 }
@@ -79,7 +89,7 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
 // split into passes or pieces.
 void add_samples(const Scene& scene, const Integrator& integrator, const PinholeCamera& camera,
                  const RenderSettings& settings, SampleRange samples, PixelBounds bounds,
-                 Film& film, PathCounters& counters, Progress* progress, Deadline deadline = {}) {
+                 const FilmsByReplicate& out, PathCounters& counters, Progress* progress, Deadline deadline = {}) {
     const int tiles_x = (bounds.x1 - bounds.x0 + kTile - 1) / kTile;
     const int tiles_y = (bounds.y1 - bounds.y0 + kTile - 1) / kTile;
     tbb::enumerable_thread_specific<PathCounters> local_counters;
@@ -92,7 +102,7 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
                 // Past the deadline the rest of the pass is left out: each
                 // pixel's mean stays an unbiased estimate of its own samples.
                 if (deadline.passed()) return;
-                add_pixel_samples(scene, integrator, camera, settings, samples, x, y, film, local);
+                add_pixel_samples(scene, integrator, camera, settings, samples, x, y, out, local);
             }
         if (progress) progress->advance(std::size_t(x1 - x0) * (y1 - y0) * (samples.last - samples.first));
     });
@@ -150,7 +160,7 @@ Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSe
     const Integrator integrator = make_integrator(scene, camera, settings);
     Film film(camera.width(), camera.height());
     PathCounters local;
-    add_samples(scene, integrator, camera, settings, samples, bounds, film, local, progress);
+    add_samples(scene, integrator, camera, settings, samples, bounds, {{&film}}, local, progress);
     if (counters) *counters += local;
     return film;
 }
@@ -178,7 +188,7 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
         // reach stay black and are counted.
         Deadline deadline;
         if (settings.time_limit > 0.0) deadline = {&clock, settings.time_limit};
-        add_samples(scene, integrator, camera, settings, {done, done + n}, whole, result.film,
+        add_samples(scene, integrator, camera, settings, {done, done + n}, whole, {{&result.film}},
                     result.counters, progress, deadline);
         const bool cut = deadline.passed();
         done = cut ? result.film.fewest_samples() : done + n;
@@ -219,32 +229,32 @@ Film SplitFilms::merged() const {
 
 namespace {
 
-// settings.spp samples per pixel in halves, each half rendered in `parts`
-// consecutive sample ranges: every range's film is merged into its half,
-// and with two parts kept as an image first.
+// settings.spp samples per pixel in 2 · `parts` groups of the pixels'
+// replicates (render/pixel_sampler.h), independent of one another; with
+// two parts each group is kept as an image too, and the halves are
+// groups 0–1 and 2–3.
 SplitFilms render_split(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                         int parts, PathCounters* counters, Progress* progress) {
+    static_assert(kReplicates % 4 == 0, "halves and quarters are groups of whole replicates");
     settings.validate();
-    if (settings.spp < 2 * parts)
-        throw Error("internal: a render in " + std::to_string(2 * parts) + " pieces needs as many samples per pixel");
+    if (settings.spp < 3 * kReplicates)
+        throw Error("internal: a render in independent parts needs a turn of the heroes in every replicate (" +
+                    std::to_string(3 * kReplicates) + " samples per pixel)");
     const Integrator integrator = make_integrator(scene, camera, settings);
     const PixelBounds whole{0, 0, camera.width(), camera.height()};
-    SplitFilms films{Film(camera.width(), camera.height()), Film(camera.width(), camera.height()), {}};
     PathCounters local;
-    const int pieces = 2 * parts;
-    for (int i = 0; i < pieces; ++i) {
-        Film& half = i < parts ? films.first : films.second;
-        const SampleRange range{settings.spp * i / pieces, settings.spp * (i + 1) / pieces};
-        if (parts == 1) {
-            add_samples(scene, integrator, camera, settings, range, whole, half, local, progress);
-            continue;
-        }
-        Film piece(camera.width(), camera.height());
-        add_samples(scene, integrator, camera, settings, range, whole, piece, local, progress);
-        films.quarters.push_back(ImageF32{camera.width(), camera.height(), 4, piece.rgba(true)});
-        half.merge(piece);
-    }
+    std::vector<Film> groups(std::size_t(2 * parts), Film(camera.width(), camera.height()));
+    FilmsByReplicate out;
+    for (Film& g : groups) out.films.push_back(&g);
+    add_samples(scene, integrator, camera, settings, {0, settings.spp}, whole, out, local, progress);
     if (counters) *counters += local;
+    if (parts == 1) return SplitFilms{std::move(groups[0]), std::move(groups[1]), {}};
+    SplitFilms films;
+    for (const Film& g : groups) films.quarters.push_back(ImageF32{camera.width(), camera.height(), 4, g.rgba(true)});
+    groups[0].merge(groups[1]);
+    groups[2].merge(groups[3]);
+    films.first = std::move(groups[0]);
+    films.second = std::move(groups[2]);
     return films;
 }
 

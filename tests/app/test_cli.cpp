@@ -360,8 +360,8 @@ TEST_CASE("a killed run's temporary file is removed by the next write to the sam
 }
 
 TEST_CASE("a volume or a film larger than the memory available is refused at once", "[cli]") {
-    // 1024³ needs 43 bytes a voxel (46 GB), a 16384² film 224 bytes a pixel
-    // (60 GB): more than this kind of machine has. Where a machine has that
+    // 1024³ needs 43 bytes a voxel (46 GB), a 16384² film 380 bytes a pixel
+    // (102 GB): more than this kind of machine has. Where a machine has that
     // much, the refusal cannot be shown and the test says so.
     const std::uint64_t available = jade::available_memory_bytes();
     if (available == 0 || available > 30'000'000'000ULL) {
@@ -374,7 +374,7 @@ TEST_CASE("a volume or a film larger than the memory available is refused at onc
                           "--resolution 1024 needs about 54.8 GB of memory");
     require_clean_failure(dir, "render --mesh " JADE_DATA_DIR "/reference/blob.obj --sigma-s 1 --sigma-a 1 "
                                "--width 16384 --height 16384 --out " + dir.file("r.exr"),
-                          "a 16384 x 16384 render (--width, --height) needs about 60.1 GB");
+                          "a 16384 x 16384 render (--width, --height) needs about 102.0 GB");
     CHECK(dir.entries() == 0);
 }
 

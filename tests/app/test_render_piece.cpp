@@ -153,7 +153,7 @@ TEST_CASE("merge refuses what would not be the render: one line naming the files
     refused({files[0], files[1], foreign[0]}, "pieces of different renders (their jobs' /settings/seed differ)");
 
     // A piece whose sums were altered no longer agrees with its range.
-    std::vector<ExrPart> parts = read_exr_parts(files[2], 2, 64);
+    std::vector<ExrPart> parts = read_exr_parts(files[2], 2, 128);
     REQUIRE(parts.size() == 2);
     parts[1].uints[std::size_t(parts[1].channel("count"))] += 1;
     write_exr_parts(dir.file("altered.exr"), parts);
@@ -192,19 +192,19 @@ TEST_CASE("range flags: parsed strictly, checked against the job", "[piece]") {
     CHECK_THROWS_WITH(validate_piece(job, {{0, 4}, {0, 0, 40, 32}}), Catch::Contains("--time"));
 }
 
-TEST_CASE("a piece of format 1, written before the film kept its strata, reads as one stratum", "[piece]") {
+TEST_CASE("a piece of format 1, written before the film kept its strata, reads as one stratum and replicate", "[piece]") {
     TempDir dir;
     const RenderJob job = small_job(dir);
     const std::vector<std::string> files = render_pieces(job, sample_cuts(job, {0, 29}));
     const RenderPiece now = read_render_piece(files[0]);
-    // The same piece as format 1 wrote it: no stratum channels, "format": 1.
-    std::vector<ExrPart> parts = read_exr_parts(files[0], 2, 64);
+    // The same piece as format 1 wrote it: no stratum or replicate channels, "format": 1.
+    std::vector<ExrPart> parts = read_exr_parts(files[0], 2, 128);
     REQUIRE(parts.size() == 2);
     ExrPart& sums = parts[1];
     std::vector<int> kept;
     std::vector<std::string> names;
     for (std::size_t k = 0; k < sums.channels.size(); ++k)
-        if (sums.channels[k].rfind("stratum", 0) != 0) {
+        if (sums.channels[k].rfind("stratum", 0) != 0 && sums.channels[k].rfind("replicate", 0) != 0) {
             kept.push_back(int(k));
             names.push_back(sums.channels[k]);
         }
@@ -216,7 +216,7 @@ TEST_CASE("a piece of format 1, written before the film kept its strata, reads a
     sums.uints = old;
     for (auto& [key, value] : sums.attributes)
         if (key == "jade:piece") {
-            const std::size_t at = value.find("\"format\":2");
+            const std::size_t at = value.find("\"format\":3");
             REQUIRE(at != std::string::npos);
             value.replace(at, 10, "\"format\":1");
         }
@@ -226,8 +226,18 @@ TEST_CASE("a piece of format 1, written before the film kept its strata, reads a
     CHECK(then.film.sums_of_squares() == now.film.sums_of_squares());
     CHECK(then.film.counts() == now.film.counts());
     for (std::uint32_t n : then.film.stratum_counts()) CHECK(n == 0);
+    for (std::uint32_t n : then.film.replicate_counts()) CHECK(n == 0);
     // One stratum: the pixel is Σx / n, with the sample variance.
     const double n = then.film.counts()[0];
     const double sum = double(then.film.sums()[0]) / 18446744073709551616.0;
     CHECK(then.film.mean(0, 0).x == Approx(sum / n));
+    // And every pixel the sample variance over n (no replicates to take it from).
+    for (int y = 0; y < then.film.height(); ++y)
+        for (int x = 0; x < then.film.width(); ++x) {
+            const std::size_t i = std::size_t(y) * then.film.width() + x;
+            const double s = double(then.film.sums()[3 * i]) / 18446744073709551616.0;
+            const double sq = double(then.film.sums_of_squares()[3 * i]) / 18446744073709551616.0;
+            const double expected = std::max(0.0, (sq - s * s / n) / (n - 1)) / n;
+            CHECK(then.film.variance_of_mean(x, y).x == Approx(expected).margin(1e-12));
+        }
 }

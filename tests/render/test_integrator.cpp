@@ -18,6 +18,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/task_arena.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -615,6 +616,68 @@ TEST_CASE("no light leaks through the boundary: an opaque interior shows only th
         CHECK(z.max_abs_z < 4.5);
         for (int c = 0; c < 3; ++c) CHECK(std::abs(z.whole_image_z[c]) < 4.0);
     }
+}
+
+TEST_CASE("the film's error from its replicates is the spread between independent renders", "[integrator][render]") {
+    // Scene A's medium, index-matched. A pixel's first flights come from
+    // scrambled sequences (render/pixel_sampler.h), so its error is below
+    // that of independent samples; the film takes it from the spread
+    // between its replicates. The truth here is the spread
+    // between 32 renders of other seeds: per pixel and channel, their means'
+    // sample variance (31 degrees of freedom). Summed over the object's
+    // pixels, the truth has a relative standard deviation of about
+    // √(2/31)/√N ≈ 1.8 % (N = 192 pixels) and the films' estimate, averaged
+    // over the 32 (3 degrees of freedom each), about 0.9 %: ±10 % is over 4
+    // standard deviations of their difference. The variance read as from
+    // independent samples (within the hero strata; the film's reading with
+    // its replicates' sums taken away) must be clearly above the truth, or
+    // the test would not tell the two readings apart.
+    const MeshAccel accel(sphere());
+    const HomogeneousMedium medium(Spectrum(3.8f, 7.2f, 9.6f), Spectrum(0.2f, 0.8f, 2.4f));
+    const Scene s = basic_scene(accel, &medium, BoundaryMode::None, Spectrum(1.f));
+    const PinholeCamera cam = camera_at({0, 0, 4}, {0, 0, 0}, 40, 24);
+    constexpr int kSeeds = 32, kPixels = 24 * 24;
+    std::vector<std::array<double, 3>> sum(kPixels), sum_sq(kPixels), replicates(kPixels), independent(kPixels);
+    std::vector<int> object(kPixels, 1);
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+        const Film film = render_spp(s, cam, 128, std::uint64_t(seed)).film;
+        Film::Sums without = Film::zero_sums(24, 24);
+        without.sum = film.sums();
+        without.sum_sq = film.sums_of_squares();
+        without.count = film.counts();
+        without.hits = film.object_hits();
+        without.stratum_sum = film.stratum_sums();
+        without.stratum_count = film.stratum_counts();
+        const Film samples_only = Film::from_sums(std::move(without));
+        for (int i = 0; i < kPixels; ++i) {
+            const int x = i % 24, y = i / 24;
+            if (film.coverage(x, y) < 1.f) object[std::size_t(i)] = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double m = film.mean(x, y)[c];
+                sum[std::size_t(i)][std::size_t(c)] += m;
+                sum_sq[std::size_t(i)][std::size_t(c)] += m * m;
+                replicates[std::size_t(i)][std::size_t(c)] += film.variance_of_mean(x, y)[c] / kSeeds;
+                independent[std::size_t(i)][std::size_t(c)] += samples_only.variance_of_mean(x, y)[c] / kSeeds;
+            }
+        }
+    }
+    double truth = 0.0, estimate = 0.0, as_independent = 0.0;
+    int pixels = 0;
+    for (int i = 0; i < kPixels; ++i) {
+        if (!object[std::size_t(i)]) continue;
+        ++pixels;
+        for (int c = 0; c < 3; ++c) {
+            const double m = sum[std::size_t(i)][std::size_t(c)] / kSeeds;
+            truth += (sum_sq[std::size_t(i)][std::size_t(c)] - kSeeds * m * m) / (kSeeds - 1);
+            estimate += replicates[std::size_t(i)][std::size_t(c)];
+            as_independent += independent[std::size_t(i)][std::size_t(c)];
+        }
+    }
+    INFO(pixels << " object pixels; truth " << truth << ", replicates' estimate " << estimate
+                << ", read as independent " << as_independent);
+    REQUIRE(pixels > 150);
+    CHECK(estimate == Approx(truth).epsilon(0.10));
+    CHECK(as_independent > 1.15 * truth);
 }
 
 TEST_CASE("progressive rendering stops at the target error, the time budget or the spp", "[integrator][render]") {

@@ -2,12 +2,14 @@
 // uniform on its own (else every sample is biased), and a pixel's samples
 // must cover the dimension evenly (else nothing is gained).
 
+#include "jade/core/random.h"
 #include "jade/render/pixel_sampler.h"
 
 #include <catch2/catch.hpp>
 
 #include <array>
 #include <cmath>
+#include <vector>
 
 using namespace jade;
 
@@ -43,4 +45,70 @@ TEST_CASE("stratified heroes: a sample's hero is uniform over pixels and depends
     for (int c : count) CHECK(std::abs(c - n / 3.0) < 5.0 * sd);
     // Another seed draws other starts: two thirds of the pixels differ.
     CHECK(std::abs(differ - 2.0 * n / 3.0) < 5.0 * sd);
+}
+
+namespace {
+
+// The sample index of point j of replicate r, hero turn position k (0–2).
+std::uint64_t sample_of(std::uint64_t j, int r, int k) {
+    return 3 * (j * kReplicates + std::uint64_t(r)) + std::uint64_t(k);
+}
+
+}  // namespace
+
+TEST_CASE("replicates: every turn of the heroes lies in one replicate and shares its flight number",
+          "[pixel_sampler]") {
+    for (std::uint64_t s = 0; s < 300; ++s) {
+        CHECK(sample_replicate(s) == int((s / 3) % kReplicates));
+        CHECK(first_flight_number(3, 17, s) == first_flight_number(3, 17, s - s % 3));
+    }
+}
+
+TEST_CASE("replicates: each replicate's first 2^k flight numbers keep one in each interval of width 2^-k",
+          "[pixel_sampler]") {
+    // The van der Corput sequence is a (0, 1)-sequence in base 2 and Owen's
+    // scrambling permutes dyadic intervals whole: for every k up to 10 and
+    // every prefix of 2^k points, each interval of width 2^-k holds one.
+    for (std::uint64_t pixel : {0ull, 1ull, 977ull})
+        for (int r = 0; r < kReplicates; ++r)
+            for (int k = 0; k <= 10; ++k) {
+                const int n = 1 << k;
+                std::vector<int> per_interval(std::size_t(n), 0);
+                for (std::uint64_t j = 0; j < std::uint64_t(n); ++j) {
+                    const float u = first_flight_number(5, pixel, sample_of(j, r, 2));
+                    REQUIRE(u >= 0.f);
+                    REQUIRE(u < 1.f);
+                    REQUIRE(u * 16777216.f == std::floor(u * 16777216.f));  // a multiple of 2^-24
+                    ++per_interval[std::size_t(u * float(n))];
+                }
+                for (int count : per_interval) CHECK(count == 1);
+            }
+}
+
+TEST_CASE("replicates: a flight number is uniform over pixels and independent between replicates",
+          "[pixel_sampler]") {
+    // 16 000 pixels: each of 16 bins of sample 40's number is binomial
+    // (n 16 000, p 1/16), standard deviation 30.6; 5 of them allowed. The
+    // correlation between two replicates' numbers, and between a number and
+    // the first of the sample's own stream, has standard deviation
+    // 1/√16 000 = 0.0079 over the pixels; 5 of them allowed.
+    const int n = 16000;
+    std::array<int, 16> bins{};
+    const auto correlation = [&](auto other) {
+        double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
+        for (int pixel = 0; pixel < n; ++pixel) {
+            const double x = first_flight_number(9, std::uint64_t(pixel), 40), y = other(std::uint64_t(pixel));
+            sx += x, sy += y, sxy += x * y, sxx += x * x, syy += y * y;
+        }
+        const double cov = sxy / n - sx / n * sy / n;
+        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+    };
+    for (int pixel = 0; pixel < n; ++pixel) ++bins[std::size_t(first_flight_number(9, std::uint64_t(pixel), 40) * 16.f)];
+    const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
+    for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
+    REQUIRE(sample_replicate(40) != sample_replicate(43));
+    CHECK(std::abs(correlation([](std::uint64_t p) { return double(first_flight_number(9, p, 43)); })) <
+          5.0 / std::sqrt(double(n)));
+    CHECK(std::abs(correlation([](std::uint64_t p) { return double(SampleStream(9, p, 40).uniform()); })) <
+          5.0 / std::sqrt(double(n)));
 }

@@ -81,27 +81,48 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
     SECTION("the progressive renderer's passes give the same film") {
         CHECK(identical(render(scene, camera, settings).film, whole));
     }
-    SECTION("a render in halves: merged, the same film; apart, the two sample ranges") {
+    SECTION("a render in halves: merged, the same film; apart, replicates 0-1 and 2-3") {
+        // 37 samples: turns of the heroes 0 … 11 and sample 36 (turn 12),
+        // turn t in replicate t mod 4 (render/pixel_sampler.h): replicate 0
+        // holds 10 samples and the others 9.
         const SplitFilms halves = render_halves(scene, camera, settings);
-        CHECK(halves.first.spp() == 18);
-        CHECK(halves.second.spp() == 19);
-        CHECK(identical(halves.first, render_pass(scene, camera, settings, {0, 18}, all)));
+        CHECK(halves.first.spp() == 19);
+        CHECK(halves.second.spp() == 18);
+        CHECK(halves.first.fewest_samples() == 19);
         CHECK(identical(halves.merged(), whole));
+        // Replicates 1 … 3's counts per pixel (replicate 0 holds the rest).
+        for (std::size_t i = 0; i < 24 * 20; ++i) {
+            CHECK(halves.first.replicate_counts()[3 * i] == 9);
+            CHECK(halves.first.replicate_counts()[3 * i + 1] == 0);
+            CHECK(halves.first.replicate_counts()[3 * i + 2] == 0);
+            CHECK(halves.second.replicate_counts()[3 * i] == 0);
+            CHECK(halves.second.replicate_counts()[3 * i + 1] == 9);
+            CHECK(halves.second.replicate_counts()[3 * i + 2] == 9);
+        }
     }
-    SECTION("a render in quarters: the same halves, and each quarter its own sample range") {
+    SECTION("a render in quarters: the same halves, and each quarter one replicate") {
         const SplitFilms halves = render_halves(scene, camera, settings);
         const SplitFilms quarters = render_quarters(scene, camera, settings);
         CHECK(halves.quarters.empty());
         CHECK(identical(quarters.first, halves.first));
         CHECK(identical(quarters.second, halves.second));
         REQUIRE(quarters.quarters.size() == 4);
-        const SampleRange ranges[4] = {{0, 9}, {9, 18}, {18, 27}, {27, 37}};
         for (int i = 0; i < 4; ++i) {
             const ImageF32& q = quarters.quarters[std::size_t(i)];
             CHECK(q.width == 24);
             CHECK(q.channels == 4);
-            CHECK(q.pixels == render_pass(scene, camera, settings, ranges[i], all).rgba(true));
+            for (int j = 0; j < i; ++j) CHECK(q.pixels != quarters.quarters[std::size_t(j)].pixels);
         }
+        // A quarter's coverage is its replicate's share of object hits: the
+        // four together hold the whole render's hits.
+        for (int y = 0; y < 20; ++y)
+            for (int x = 0; x < 24; ++x) {
+                const std::size_t i = std::size_t(y) * 24 + x;
+                const int counts[4] = {10, 9, 9, 9};
+                double hits = 0.0;
+                for (int r = 0; r < 4; ++r) hits += double(quarters.quarters[std::size_t(r)].pixels[4 * i + 3]) * counts[r];
+                CHECK(hits == Approx(double(whole.object_hits()[i])).margin(1e-4));
+            }
     }
     SECTION("a different seed gives a different image") {
         settings.seed = 8;

@@ -36,13 +36,15 @@ struct RenderBenchOptions {
 int run_render_benchmark(const RenderBenchOptions& options);
 
 // How a render's true error falls with its samples: the job's render
-// (`render --job`, e.g. a pipeline's report.json) as `batches` independent
-// batches of `batch_spp` samples per pixel (app/render_job.h). For groups of
+// (`render --job`, e.g. a pipeline's report.json) as `batches` batches of
+// `batch_spp` samples per pixel (app/render_job.h), independent but for the
+// first flights, which stretches of one scrambled sequence per replicate
+// give (render/pixel_sampler.h): they spread against each other, so the
+// error across the batches reads, if anything, high. For groups of
 // 1, 2, 4, … batches it prints the samples per pixel, seconds, the relative
 // error measured across the groups (Film::relative_error_across, the
 // truth's estimate) and the film's own estimate (the mean of the groups'),
-// then the whole render's (across: the one-batch error over √batches, the
-// batches being independent), and both measures' log–log slopes against
+// then the whole render's (across: the one-batch error over √batches), and both measures' log–log slopes against
 // samples (the batches cost alike: against seconds too) from 64 samples
 // per pixel on. Returns 0.
 struct ConvergenceBenchOptions {

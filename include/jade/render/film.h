@@ -7,10 +7,14 @@
 // samples take them in turn, render/pixel_sampler.h), and each stratum's sum
 // is kept too: the spread between the strata's means is not noise of the
 // pixel's mean, so the variance is taken within strata (docs/design.md,
-// "Stratified pixel samples").
+// "Stratified pixel samples"). A sample also belongs to one of kReplicates
+// replicates (render/pixel_sampler.h), whose sums are kept too: once each
+// holds samples, the variance is taken from the spread between their means,
+// the samples within one replicate not being independent.
 
 #include "jade/io/image_io.h"
 #include "jade/core/spectrum.h"
+#include "jade/render/pixel_sampler.h"
 
 #include <cstdint>
 #include <string>
@@ -36,9 +40,11 @@ public:
     int fewest_samples() const;
 
     static constexpr int kStrata = 3;
-    // Adds one sample of stratum `stratum` (0 ≤ stratum < kStrata) to pixel
-    // (x, y). A pixel is written by one thread at a time.
-    void add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum = 0);
+    static constexpr int kReplicates = jade::kReplicates;
+    // Adds one sample of stratum `stratum` (0 ≤ stratum < kStrata) and
+    // replicate `replicate` (0 ≤ replicate < kReplicates) to pixel (x, y).
+    // A pixel is written by one thread at a time.
+    void add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum = 0, int replicate = 0);
     // Adds another film's samples (same size), pixel by pixel. The sums are
     // exact, so merging is associative: pieces of a render merged in any
     // grouping give the bits of one render of all their samples.
@@ -46,9 +52,11 @@ public:
 
     // The pixel's mean: with samples in every stratum the average of the
     // strata's means (the strata are equally likely), else Σx / n.
-    // Variance of that mean, per channel: from the variance within strata,
-    // pooled (the sample variance over n when not every stratum holds two
-    // samples: then the larger value). NaN below 2 samples.
+    // Variance of that mean, per channel: once every replicate holds kStrata
+    // samples, from the spread between the replicates' means; before, from
+    // the variance within strata, pooled (the sample variance over n when
+    // not every stratum holds two samples: then the larger value). NaN
+    // below 2 samples.
     Spectrum mean(int x, int y) const;
     Spectrum variance_of_mean(int x, int y) const;
     // Fraction of the pixel's camera rays that met the object.
@@ -87,7 +95,8 @@ public:
     // The film's exact state: per pixel (row-major) Σx and Σx² per channel as
     // fixed-point integers in 2^-64 units, the sample count and the count of
     // samples that met the object; and Σx per channel and the sample count of
-    // strata 1 … kStrata − 1 (stratum 0 holds the rest). What a piece of a split render stores
+    // strata 1 … kStrata − 1 (stratum 0 holds the rest), and the same of
+    // replicates 1 … kReplicates − 1. What a piece of a split render stores
     // (app/render_piece.h), so that merging pieces read back from disk is as
     // exact as merging them in memory.
     struct Sums {
@@ -96,6 +105,8 @@ public:
         std::vector<std::uint32_t> count, hits;
         std::vector<__int128> stratum_sum;         // 3 (kStrata − 1) per pixel
         std::vector<std::uint32_t> stratum_count;  // kStrata − 1 per pixel
+        std::vector<__int128> replicate_sum;         // 3 (kReplicates − 1) per pixel
+        std::vector<std::uint32_t> replicate_count;  // kReplicates − 1 per pixel
     };
     const std::vector<__int128>& sums() const { return sum_; }
     const std::vector<__int128>& sums_of_squares() const { return sum_sq_; }
@@ -103,6 +114,8 @@ public:
     const std::vector<std::uint32_t>& object_hits() const { return hits_; }
     const std::vector<__int128>& stratum_sums() const { return stratum_sum_; }
     const std::vector<std::uint32_t>& stratum_counts() const { return stratum_count_; }
+    const std::vector<__int128>& replicate_sums() const { return replicate_sum_; }
+    const std::vector<std::uint32_t>& replicate_counts() const { return replicate_count_; }
     // A film holding exactly these sums (throws jade::Error when the sizes
     // disagree or a pixel has more object hits than samples).
     static Film from_sums(Sums sums);
@@ -116,6 +129,7 @@ private:
     int strata(std::size_t i, int c, double* sums, std::uint32_t* counts) const;
     double pixel_mean(std::size_t i, int c) const;
     double mean_variance(std::size_t i, int c) const;
+    double sample_variance(std::size_t i, int c) const;
     // The root of the mean, over the object's pixels (object(i)) and the
     // channels, of variance(i, c) / (mean(i, c)² + ε), ε 0.01 × the square
     // of mean()'s average over those pixels: the rule both measures share.
@@ -130,6 +144,8 @@ private:
     std::vector<std::uint32_t> count_, hits_;
     std::vector<__int128> stratum_sum_;         // strata 1 …, 3 per stratum and pixel
     std::vector<std::uint32_t> stratum_count_;  // strata 1 …, per pixel
+    std::vector<__int128> replicate_sum_;         // replicates 1 …, 3 per replicate and pixel
+    std::vector<std::uint32_t> replicate_count_;  // replicates 1 …, per pixel
 };
 
 // The same samples on a film `factor` times coarser in each direction: a

@@ -41,6 +41,7 @@
 
 #include "jade/core/random.h"
 #include "jade/render/light_estimator.h"
+#include "jade/render/pixel_sampler.h"
 #include "jade/render/scene.h"
 #include "jade/render/sphere_exit.h"
 #include "jade/render/tracking.h"
@@ -129,16 +130,15 @@ public:
     // Memory of those tables (0 when the scene needs none).
     std::size_t sphere_exit_bytes() const { return sphere_exits_.memory_bytes(); }
     // One camera path: radiance arriving at the camera along propagation
-    // direction `direction` (unit) from `origin`, which lies outside the object.
-    PathSample trace(const glm::vec3& origin, const glm::vec3& direction, SampleStream& rng,
-                     PathCounters& counters) const;
-    // The same path when its first boundary query, from `origin` along
-    // `direction` over (0, ∞), is answered already (camera rays are traced
-    // in packets, MeshAccel::intersect_packet) and its hero channel chosen
-    // (render/pixel_sampler.h): the caller's uniform choice.
+    // direction `direction` (unit) from `origin`, which lies outside the
+    // object. Its first boundary query, from `origin` along `direction` over
+    // (0, ∞), is answered already (camera rays are traced in packets,
+    // MeshAccel::intersect_packet), and its hero channel and the number of
+    // its first free flight drawn whole are the pixel's
+    // (render/pixel_sampler.h): each uniform on its own.
     PathSample trace(const glm::vec3& origin, const glm::vec3& direction,
-                     const std::optional<SurfaceHit>& first_hit, int hero, SampleStream& rng,
-                     PathCounters& counters) const;
+                     const std::optional<SurfaceHit>& first_hit, int hero, float first_flight,
+                     SampleStream& rng, PathCounters& counters) const;
 
 private:
     struct PathState;

@@ -93,14 +93,17 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
                     const std::function<void(const PassRecord&)>& on_pass = nullptr);
 
 // A render of settings.spp samples per pixel (no time budget or target
-// error) kept as two independent halves: samples [0, n/2) and [n/2, n).
+// error) kept as two independent halves: each pixel's replicates 0–1 and
+// 2–3 (render/pixel_sampler.h), equal in size to within a turn of the
+// heroes. Samples [0, n/2) and [n/2, n) would not be independent: they
+// share each replicate's sequence.
 // Merged (Film::merge) they are bit-identical to render()'s film; their
 // difference holds the render's noise and nothing of the image, which is
 // how a statistic of the image is freed of the noise's share (the fit's
 // S_material, fit/display.h). The integrator is set up once for both.
 struct SplitFilms {
     Film first, second;
-    // render_quarters only: the quarters [0, n/4) … [3n/4, n) in order, the
+    // render_quarters only: the quarters, replicates 0 … 3 in order, the
     // first two making `first`, as images (RGBA, alpha = coverage; a film
     // would take 13 times the memory): the same statistic at half the
     // samples, from which its bias from the noise is extrapolated away.
@@ -109,7 +112,8 @@ struct SplitFilms {
 };
 SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                          PathCounters* counters = nullptr, Progress* progress = nullptr);
-// The same halves, bit for bit, and their quarters (settings.spp ≥ 4).
+// The same halves, bit for bit, and their quarters (both: settings.spp ≥
+// 3 kReplicates, a turn in every replicate).
 SplitFilms render_quarters(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                            PathCounters* counters = nullptr, Progress* progress = nullptr);
 
