@@ -39,7 +39,7 @@ int sample_replicate(std::uint64_t sample);
 // first flight's lengths cover their distribution evenly. The three heroes
 // of a turn share a number. A multiple of 2^-24 below 1, as
 // SampleStream::uniform's. (The first scattering direction drawn the same
-// way was measured and left out: docs/design.md, "Stratified pixel samples".)
+// way is not taken yet: docs/design.md, "Stratified pixel samples".)
 float first_flight_number(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
 
 }  // namespace jade
