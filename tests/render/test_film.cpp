@@ -156,6 +156,44 @@ TEST_CASE("a film of one stratum keeps the sample variance over n", "[film]") {
     CHECK(g.variance_of_mean(0, 0).x == Approx(49.0 / 12.0));
 }
 
+TEST_CASE("a film's variance comes from the spread between its replicates once each holds a turn", "[film]") {
+    // Samples dealt as the renderer deals them: turn t (samples 3t … 3t + 2,
+    // heroes 0, 1, 2) to replicate t mod 4; replicate r's samples are all
+    // r + 1, so within a replicate there is no spread at all. With a turn in
+    // each (12 samples): replicate means 1, 2, 3, 4, Σx/n 2.5, and
+    // R/(R − 1) Σ_r (n_r/n)² (Y_r − 2.5)² = 4/3 · (1/16) · 5 = 5/12.
+    const auto add = [](Film& f, int samples) {
+        for (int s = 0; s < samples; ++s) {
+            const int r = (s / 3) % Film::kReplicates;
+            f.add_sample(0, 0, Spectrum(float(r + 1)), true, s % 3, r);
+        }
+    };
+    Film f(1, 1);
+    add(f, 12);
+    CHECK(f.variance_of_mean(0, 0).x == Approx(5.0 / 12.0));
+    // Unequal replicates (15 samples: replicate 0 holds 6, mean 1): shares
+    // 6/15 and 3/15 each, Σx/n = (6 + 6 + 9 + 12)/15 = 2.2, and
+    // 4/3 · Σ_r (n_r/15)² (Y_r − 2.2)².
+    Film g(1, 1);
+    add(g, 15);
+    const double m = 33.0 / 15.0;
+    const double expected = 4.0 / 3.0 *
+                            ((0.4 * 0.4) * (1 - m) * (1 - m) + 0.04 * ((2 - m) * (2 - m) + (3 - m) * (3 - m) + (4 - m) * (4 - m)));
+    CHECK(g.variance_of_mean(0, 0).x == Approx(expected));
+    // Before every replicate holds a turn (11 samples: replicate 3 holds 2):
+    // from the samples within the hero strata, as if independent.
+    Film h(1, 1);
+    add(h, 11);
+    Film::Sums without = Film::zero_sums(1, 1);
+    without.sum = h.sums();
+    without.sum_sq = h.sums_of_squares();
+    without.count = h.counts();
+    without.hits = h.object_hits();
+    without.stratum_sum = h.stratum_sums();
+    without.stratum_count = h.stratum_counts();
+    CHECK(h.variance_of_mean(0, 0).x == Film::from_sums(without).variance_of_mean(0, 0).x);
+}
+
 // K films of n samples each per pixel, sample s of group k being value(rng).
 template <class Value>
 std::vector<Film> groups_of(int k, int n, int w, int h, Value value) {
