@@ -4,6 +4,8 @@
 #include "jade/core/error.h"
 #include "jade/core/random.h"
 
+#include "support/render_test_util.h"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -184,14 +186,7 @@ TEST_CASE("a film's variance comes from the spread between its replicates once e
     // from the samples within the hero strata, as if independent.
     Film h(1, 1);
     add(h, 11);
-    Film::Sums without = Film::zero_sums(1, 1);
-    without.sum = h.sums();
-    without.sum_sq = h.sums_of_squares();
-    without.count = h.counts();
-    without.hits = h.object_hits();
-    without.stratum_sum = h.stratum_sums();
-    without.stratum_count = h.stratum_counts();
-    CHECK(h.variance_of_mean(0, 0).x == Film::from_sums(without).variance_of_mean(0, 0).x);
+    CHECK(h.variance_of_mean(0, 0).x == jade_test::without_replicates(h).variance_of_mean(0, 0).x);
 }
 
 // K films of n samples each per pixel, sample s of group k being value(rng).

@@ -641,14 +641,7 @@ TEST_CASE("the film's error from its replicates is the spread between independen
     std::vector<int> object(kPixels, 1);
     for (int seed = 1; seed <= kSeeds; ++seed) {
         const Film film = render_spp(s, cam, 128, std::uint64_t(seed)).film;
-        Film::Sums without = Film::zero_sums(24, 24);
-        without.sum = film.sums();
-        without.sum_sq = film.sums_of_squares();
-        without.count = film.counts();
-        without.hits = film.object_hits();
-        without.stratum_sum = film.stratum_sums();
-        without.stratum_count = film.stratum_counts();
-        const Film samples_only = Film::from_sums(std::move(without));
+        const Film samples_only = jade_test::without_replicates(film);
         for (int i = 0; i < kPixels; ++i) {
             const int x = i % 24, y = i / 24;
             if (film.coverage(x, y) < 1.f) object[std::size_t(i)] = 0;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <ostream>
+#include <utility>
 #include <vector>
 
 namespace jade_test {
@@ -156,6 +157,20 @@ inline BlockZ block_z_scores(const jade::Film& film, const Expected& e, int bloc
         r.mean_difference[c] = all_d[c] / (double(film.width()) * film.height());
     }
     return r;
+}
+
+// The same film with its replicates' sums taken away (every sample in
+// replicate 0): its variance is then read from the samples as if they were
+// independent, within the hero strata (render/film.h).
+inline jade::Film without_replicates(const jade::Film& f) {
+    jade::Film::Sums s = jade::Film::zero_sums(f.width(), f.height());
+    s.sum = f.sums();
+    s.sum_sq = f.sums_of_squares();
+    s.count = f.counts();
+    s.hits = f.object_hits();
+    s.stratum_sum = f.stratum_sums();
+    s.stratum_count = f.stratum_counts();
+    return jade::Film::from_sums(std::move(s));
 }
 
 }  // namespace jade_test
