@@ -152,15 +152,24 @@ struct Integrator::PathState {
     // cannot have grown enough.
     float surface_distance = -1.f;
     glm::vec3 distance_from{0.f};
-    // The number the pixel gives the first free flight drawn whole
-    // (render/pixel_sampler.h), taken once; after that, and on paths
-    // without it, the stream's.
-    float first_flight = 0.f;
+    // The numbers the pixel gives the first free flight drawn whole and the
+    // first scattering's direction (render/pixel_sampler.h), each taken once;
+    // after that, and on paths without them, the stream's.
+    FirstNumbers first;
     bool first_flight_unused = false;
+    bool first_direction_unused = false;
     float flight_number() {
         if (!first_flight_unused) return rng.uniform();
         first_flight_unused = false;
-        return first_flight;
+        return first.flight;
+    }
+    std::array<float, 2> direction_numbers() {
+        if (!first_direction_unused) {
+            const float u1 = rng.uniform();
+            return {u1, rng.uniform()};
+        }
+        first_direction_unused = false;
+        return first.direction;
     }
     PathSample out;
 };
@@ -178,14 +187,15 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, s
 }
 
 PathSample Integrator::trace(const glm::vec3& origin, const glm::vec3& direction,
-                             const std::optional<SurfaceHit>& first_hit, int hero, float first_flight,
+                             const std::optional<SurfaceHit>& first_hit, int hero, const FirstNumbers& first,
                              SampleStream& rng, PathCounters& counters) const {
     if (hero < 0 || hero > 2) throw Error("internal: a hero channel is 0, 1 or 2");
     ++counters.paths;
     PathState s(origin, direction, rng, counters);
     s.hero = hero;
-    s.first_flight = first_flight;
+    s.first = first;
     s.first_flight_unused = true;
+    s.first_direction_unused = true;
     follow(s, &first_hit);
     return s.out;
 }
@@ -475,8 +485,8 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
         for (const auto& e : *light) estimate_light(s, *e, s.collision);
     const glm::vec3 d_in = s.d;
     s.o = s.collision;
-    const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
-    s.d = scene_.phase.sample(d_in, u1, u2);
+    const std::array<float, 2> u = s.direction_numbers();
+    s.d = scene_.phase.sample(d_in, u[0], u[1]);
     s.straight = false;
     s.chain.scattered();
     s.scattered_at = s.collision;
@@ -599,6 +609,7 @@ void Integrator::split_reflection(PathState& s, const glm::vec3& p, const glm::v
     PathState r = s;
     r.out = PathSample{};
     r.first_flight_unused = false;  // the refracted branch's
+    r.first_direction_unused = false;
     r.w.scale(Spectrum(reflectance), Spectrum(1.f));
     r.chain.record(p, true, true, false);
     r.d = mirror;

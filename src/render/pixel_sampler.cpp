@@ -3,6 +3,7 @@
 #include "jade/core/random.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 namespace jade {
@@ -20,16 +21,15 @@ std::uint32_t reverse_bits(std::uint32_t x) {
     return (x >> 16) | (x << 16);
 }
 
-// Point j of the van der Corput sequence (the radical inverse of j in base
-// 2, as 32 bits) with Owen's nested uniform scrambling by a hash (Burley
-// 2020, after Laine & Karras 2011). In the bit-reversed value each bit is
-// flipped by a function of the seed and the bits below it, which are the
-// value's bits above it, so every dyadic interval is permuted as a whole:
-// the first 2^k points keep one point in each interval of width 2^-k, and
-// each step below is a bijection of the 32-bit words (x ^= x·c with c even
-// leaves bit k a function of bits ≤ k), so a point is uniform when the seed is.
-std::uint32_t scrambled_van_der_corput(std::uint32_t j, std::uint32_t seed) {
-    std::uint32_t x = j;  // reverse_bits(radical inverse of j) is j itself
+// Owen's nested uniform scrambling of a point's 32 digits by a hash
+// (Burley 2020, after Laine & Karras 2011). In the bit-reversed value each
+// bit is flipped by a function of the seed and the bits below it, which are
+// the value's bits above it, so every dyadic interval is permuted as a
+// whole: a net stays a net of the same quality, and each step below is a
+// bijection of the 32-bit words (x ^= x·c with c even leaves bit k a
+// function of bits ≤ k), so a point is uniform when the seed is.
+std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
+    std::uint32_t x = reverse_bits(v);
     x += seed;
     x ^= x * 0x6C50B47Cu;
     x ^= x * 0xB82F1E52u;
@@ -37,6 +37,43 @@ std::uint32_t scrambled_van_der_corput(std::uint32_t j, std::uint32_t seed) {
     x ^= x * 0x8D22F6E6u;
     return reverse_bits(x);
 }
+
+// The columns of one of Sobol's generator matrices, column k as a 32-bit
+// word with the first digit in the top bit, from its primitive polynomial of
+// degree s (inner coefficients a_1 … a_{s-1} in the bits of `inner`, a_1
+// highest) and its initial direction numbers m_1 … m_s (Bratley & Fox
+// 1988's recurrence: V_k = a_1 V_{k-1} ⊕ … ⊕ a_{s-1} V_{k-s+1} ⊕ V_{k-s} ⊕
+// V_{k-s} >> s).
+using SobolColumns = std::array<std::uint32_t, 32>;
+constexpr SobolColumns sobol_columns(int s, std::uint32_t inner, std::array<std::uint32_t, 2> m) {
+    SobolColumns v{};
+    for (int k = 0; k < 32; ++k) {
+        if (k < s) {
+            v[std::size_t(k)] = m[std::size_t(k)] << (31 - k);
+            continue;
+        }
+        std::uint32_t x = v[std::size_t(k - s)] ^ (v[std::size_t(k - s)] >> s);
+        for (int i = 1; i < s; ++i)
+            if ((inner >> (s - 1 - i)) & 1u) x ^= v[std::size_t(k - i)];
+        v[std::size_t(k)] = x;
+    }
+    return v;
+}
+
+// Sobol's second and third dimensions (Joe & Kuo 2008: x + 1 with m = 1,
+// and x² + x + 1 with m = 1, 3); the first is the van der Corput sequence.
+constexpr std::array<SobolColumns, 2> kSobolDirection = {sobol_columns(1, 0u, {1u, 0u}),
+                                                         sobol_columns(2, 1u, {1u, 3u})};
+
+std::uint32_t sobol(const SobolColumns& v, std::uint32_t j) {
+    std::uint32_t x = 0;
+    for (std::size_t k = 0; j != 0; j >>= 1, ++k)
+        if (j & 1u) x ^= v[k];
+    return x;
+}
+
+// A 32-bit point's top 24 bits as a float in [0, 1), as SampleStream::uniform's.
+float to_uniform(std::uint32_t x) { return float(x >> 8) * (1.f / 16777216.f); }
 }  // namespace
 
 int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
@@ -47,15 +84,21 @@ int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sampl
 
 int sample_replicate(std::uint64_t sample) { return int((sample / 3) % kReplicates); }
 
-float first_flight_number(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
-    // The scramble's seed: a hash of (seed, pixel, replicate) of its own,
-    // apart from SampleStream's keys, so it is independent of every
-    // sample's numbers and of the other replicates' seeds.
+FirstNumbers first_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
+    // The scrambles' seeds: a hash of (seed, pixel, replicate) of its own,
+    // apart from SampleStream's keys, so they are independent of every
+    // sample's numbers and of the other replicates'; one per dimension.
     const std::uint64_t key = splitmix64(splitmix64(seed ^ 0x5851F42D4C957F2Dull) + pixel) ^
                               splitmix64(std::uint64_t(sample_replicate(sample)) + 0x14057B7EF767814Full);
+    const auto scramble = [&](int dimension) {
+        return std::uint32_t(splitmix64(key + std::uint64_t(dimension) * 0x9E3779B97F4A7C15ull) >> 32);
+    };
     const auto j = std::uint32_t(sample / 3 / kReplicates);
-    // The top 24 bits, as SampleStream::uniform's numbers.
-    return float(scrambled_van_der_corput(j, std::uint32_t(splitmix64(key) >> 32)) >> 8) * (1.f / 16777216.f);
+    FirstNumbers u;
+    u.flight = to_uniform(owen_scramble(reverse_bits(j), scramble(0)));
+    for (std::size_t d = 0; d < 2; ++d)
+        u.direction[d] = to_uniform(owen_scramble(sobol(kSobolDirection[d], j), scramble(int(d) + 1)));
+    return u;
 }
 
 }  // namespace jade

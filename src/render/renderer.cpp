@@ -74,7 +74,7 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
             const auto sample = std::uint64_t(first + i);
             const int hero = stratified_hero(settings.seed, pixel, sample);
             const PathSample ps = integrator.trace(camera.origin(), direction[k], hit[k], hero,
-                                                   first_flight_number(settings.seed, pixel, sample), rng[k], counters);
+                                                   first_numbers(settings.seed, pixel, sample), rng[k], counters);
             const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
             const int replicate = sample_replicate(sample);
             out.of(replicate).add_sample(x, y, ps.radiance + behind, ps.hit_object, hero, replicate);

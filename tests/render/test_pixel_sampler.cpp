@@ -56,11 +56,13 @@ std::uint64_t sample_of(std::uint64_t j, int r, int k) {
 
 }  // namespace
 
-TEST_CASE("replicates: every turn of the heroes lies in one replicate and shares its flight number",
+TEST_CASE("replicates: every turn of the heroes lies in one replicate and shares its first numbers",
           "[pixel_sampler]") {
     for (std::uint64_t s = 0; s < 300; ++s) {
         CHECK(sample_replicate(s) == int((s / 3) % kReplicates));
-        CHECK(first_flight_number(3, 17, s) == first_flight_number(3, 17, s - s % 3));
+        const FirstNumbers u = first_numbers(3, 17, s), turn = first_numbers(3, 17, s - s % 3);
+        CHECK(u.flight == turn.flight);
+        CHECK(u.direction == turn.direction);
     }
 }
 
@@ -75,7 +77,7 @@ TEST_CASE("replicates: each replicate's first 2^k flight numbers keep one in eac
                 const int n = 1 << k;
                 std::vector<int> per_interval(std::size_t(n), 0);
                 for (std::uint64_t j = 0; j < std::uint64_t(n); ++j) {
-                    const float u = first_flight_number(5, pixel, sample_of(j, r, 2));
+                    const float u = first_numbers(5, pixel, sample_of(j, r, 2)).flight;
                     REQUIRE(u >= 0.f);
                     REQUIRE(u < 1.f);
                     REQUIRE(u * 16777216.f == std::floor(u * 16777216.f));  // a multiple of 2^-24
@@ -97,18 +99,100 @@ TEST_CASE("replicates: a flight number is uniform over pixels and independent be
     const auto correlation = [&](auto other) {
         double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
         for (int pixel = 0; pixel < n; ++pixel) {
-            const double x = first_flight_number(9, std::uint64_t(pixel), 40), y = other(std::uint64_t(pixel));
+            const double x = first_numbers(9, std::uint64_t(pixel), 40).flight, y = other(std::uint64_t(pixel));
             sx += x, sy += y, sxy += x * y, sxx += x * x, syy += y * y;
         }
         const double cov = sxy / n - sx / n * sy / n;
         return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
     };
-    for (int pixel = 0; pixel < n; ++pixel) ++bins[std::size_t(first_flight_number(9, std::uint64_t(pixel), 40) * 16.f)];
+    for (int pixel = 0; pixel < n; ++pixel) ++bins[std::size_t(first_numbers(9, std::uint64_t(pixel), 40).flight * 16.f)];
     const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
     for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
     REQUIRE(sample_replicate(40) != sample_replicate(43));
-    CHECK(std::abs(correlation([](std::uint64_t p) { return double(first_flight_number(9, p, 43)); })) <
+    CHECK(std::abs(correlation([](std::uint64_t p) { return double(first_numbers(9, p, 43).flight); })) <
           5.0 / std::sqrt(double(n)));
     CHECK(std::abs(correlation([](std::uint64_t p) { return double(SampleStream(9, p, 40).uniform()); })) <
           5.0 / std::sqrt(double(n)));
+}
+
+namespace {
+
+// Whether the first 2^k points of replicate r, in dimensions x and y of
+// (flight, direction[0], direction[1]), hold 2^t points in every
+// elementary interval of area 2^(t−k): a (t, k, 2)-net in base 2.
+bool is_net(std::uint64_t pixel, int r, int k, int t, int x, int y) {
+    const std::uint64_t n = 1ull << k;
+    for (int a = 0; a <= k - t; ++a) {
+        const int b = k - t - a;  // intervals of 2^-a by 2^-b
+        std::vector<int> count(std::size_t(1) << (a + b), 0);
+        for (std::uint64_t j = 0; j < n; ++j) {
+            const FirstNumbers u = first_numbers(5, pixel, sample_of(j, r, 1));
+            const std::array<float, 3> p{u.flight, u.direction[0], u.direction[1]};
+            const auto i = std::size_t(p[std::size_t(x)] * float(1 << a));
+            const auto jj = std::size_t(p[std::size_t(y)] * float(1 << b));
+            ++count[(i << b) | jj];
+        }
+        for (int c : count)
+            if (c != 1 << t) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("replicates: a replicate's first numbers are Sobol' nets in the flight and the direction",
+          "[pixel_sampler]") {
+    // Sobol's first two dimensions are a (0, 2)-sequence, and its first and
+    // third, and second and third, (1, 2)-sequences (Joe & Kuo 2008); Owen's
+    // scrambling keeps a net a net. So every prefix of 2^k points of a
+    // replicate holds one point in each elementary interval of area 2^-k in
+    // (flight, first direction number), and two in each of area 2^(1−k) in
+    // the other two pairs. A net of the wrong generator, or scrambles that
+    // broke intervals, fails (the direction's numbers with each other hold
+    // no (0, k, 2)-net from k = 2 on).
+    for (std::uint64_t pixel : {0ull, 1ull, 977ull})
+        for (int r = 0; r < kReplicates; ++r)
+            for (int k = 1; k <= 9; ++k) {
+                CHECK(is_net(pixel, r, k, 0, 0, 1));
+                CHECK(is_net(pixel, r, k, 1, 1, 2));
+                CHECK(is_net(pixel, r, k, 1, 0, 2));
+            }
+    CHECK_FALSE(is_net(0, 0, 4, 0, 1, 2));
+}
+
+TEST_CASE("replicates: the direction's numbers are uniform over pixels and independent of each other and the flight's",
+          "[pixel_sampler]") {
+    // 16 000 pixels, sample 40: each of 4 × 4 bins of the two direction
+    // numbers is binomial (n 16 000, p 1/16), standard deviation 30.6; 5 of
+    // them allowed. The correlations between the three numbers of one
+    // sample, and with the other replicate's, have standard deviation
+    // 1/√16 000 over the pixels; 5 of them allowed.
+    const int n = 16000;
+    std::array<int, 16> bins{};
+    std::vector<FirstNumbers> u, v;
+    for (int pixel = 0; pixel < n; ++pixel) {
+        u.push_back(first_numbers(9, std::uint64_t(pixel), 40));
+        v.push_back(first_numbers(9, std::uint64_t(pixel), 43));
+        ++bins[std::size_t(u.back().direction[0] * 4.f) * 4 + std::size_t(u.back().direction[1] * 4.f)];
+    }
+    const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
+    for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
+    const auto correlation = [&](auto x, auto y) {
+        double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double a = x(std::size_t(i)), b = y(std::size_t(i));
+            sx += a, sy += b, sxy += a * b, sxx += a * a, syy += b * b;
+        }
+        const double cov = sxy / n - sx / n * sy / n;
+        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+    };
+    const double bound = 5.0 / std::sqrt(double(n));
+    const auto flight = [&](std::size_t i) { return double(u[i].flight); };
+    const auto d0 = [&](std::size_t i) { return double(u[i].direction[0]); };
+    const auto d1 = [&](std::size_t i) { return double(u[i].direction[1]); };
+    CHECK(std::abs(correlation(flight, d0)) < bound);
+    CHECK(std::abs(correlation(flight, d1)) < bound);
+    CHECK(std::abs(correlation(d0, d1)) < bound);
+    CHECK(std::abs(correlation(d0, [&](std::size_t i) { return double(v[i].direction[0]); })) < bound);
+    CHECK(std::abs(correlation(d1, [&](std::size_t i) { return double(v[i].direction[1]); })) < bound);
 }

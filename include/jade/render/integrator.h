@@ -133,11 +133,11 @@ public:
     // direction `direction` (unit) from `origin`, which lies outside the
     // object. Its first boundary query, from `origin` along `direction` over
     // (0, ∞), is answered already (camera rays are traced in packets,
-    // MeshAccel::intersect_packet), and its hero channel and the number of
-    // its first free flight drawn whole are the pixel's
-    // (render/pixel_sampler.h): each uniform on its own.
+    // MeshAccel::intersect_packet), and its hero channel and the numbers of
+    // its first free flight drawn whole and its first scattering's direction
+    // are the pixel's (render/pixel_sampler.h): each uniform on its own.
     PathSample trace(const glm::vec3& origin, const glm::vec3& direction,
-                     const std::optional<SurfaceHit>& first_hit, int hero, float first_flight,
+                     const std::optional<SurfaceHit>& first_hit, int hero, const FirstNumbers& first,
                      SampleStream& rng, PathCounters& counters) const;
 
 private:

@@ -8,6 +8,7 @@
 // (seed, pixel, sample index): a render split into passes or pieces draws
 // the same ones.
 
+#include <array>
 #include <cstdint>
 
 namespace jade {
@@ -21,7 +22,7 @@ int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sampl
 // A pixel's samples in kReplicates independent replicates: the three samples
 // of one turn of the heroes (samples 3t, 3t + 1, 3t + 2) belong to replicate
 // t mod kReplicates, so every replicate holds whole turns. Each replicate
-// draws its first-flight numbers (below) from its own randomised
+// draws its first numbers (below) from its own randomised
 // low-discrepancy sequence; the replicates' means are independent and
 // identically distributed, so the spread between them measures the error of
 // the pixel's mean, which the spread between its samples, no longer
@@ -30,16 +31,23 @@ int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sampl
 constexpr int kReplicates = 4;
 int sample_replicate(std::uint64_t sample);
 
-// The number of a camera path's first free flight drawn whole (a homogeneous
-// medium's, or one whose extinction is the same everywhere; render/integrator.h):
-// point ⌊t / kReplicates⌋ of the van der Corput sequence, with Owen's nested
-// uniform scrambling seeded per (pixel, replicate). Each number is then
-// uniform on its own and the replicates are independent, while a
-// replicate's first 2^k numbers keep one in each interval of width 2^-k: the
-// first flight's lengths cover their distribution evenly. The three heroes
-// of a turn share a number. A multiple of 2^-24 below 1, as
-// SampleStream::uniform's. (The first scattering direction drawn the same
-// way is not taken yet: docs/design.md, "Stratified pixel samples".)
-float first_flight_number(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
+// The numbers a camera path's first steps take from the pixel: the number
+// of its first free flight drawn whole (a homogeneous medium's, or one whose
+// extinction is the same everywhere; render/integrator.h) and the two of its
+// first scattering's direction. Replicate r's turn t takes point ⌊t /
+// kReplicates⌋ of Sobol's first three dimensions (the van der Corput
+// sequence, then Joe & Kuo's direction numbers), each with Owen's nested
+// uniform scrambling seeded per (pixel, replicate, dimension). A point is
+// then uniform in the unit cube, so every sample stays unbiased, and the
+// replicates are independent; a replicate's first 2^k points are a (0, k,
+// 2)-net in the flight and the direction's first number and a (1, k, 2)-net
+// in the other two pairs: the first flights and directions cover their
+// distributions evenly. The three heroes of a turn share a point. Each
+// number is a multiple of 2^-24 below 1, as SampleStream::uniform's.
+struct FirstNumbers {
+    float flight = 0.f;
+    std::array<float, 2> direction{};
+};
+FirstNumbers first_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
 
 }  // namespace jade
