@@ -549,8 +549,9 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
                                             "(default: 0, or the stored k_s of --volume)");
     app.add_option("--fit-width", o.fit.width, "Width of the fitting renders (0 = a quarter of --width)")
         ->capture_default_str();
-    app.add_option("--fit-spp", o.fit.spp, "Samples per pixel of the fitting renders (0 = doubled from "
-                                           "256 until A's standard error is below --fit-noise and the "
+    app.add_option("--fit-spp", o.fit.spp, "Samples per pixel of the fitting renders (0 = doubled from " +
+                                           std::to_string(jade::kFirstFitSpp) +
+                                           " until A's standard error is below --fit-noise and the "
                                            "estimated relative error below --fit-error)")
         ->capture_default_str();
     app.add_option("--fit-noise", o.fit.noise, "Standard error of A (gray levels) the fitting renders must reach")

@@ -160,16 +160,15 @@ SplitFilms FitSession::split_render(const PinholeCamera& camera, const std::arra
 }
 
 // One fitting render at ks; the first chooses the sample count: doubled from
-// 256 until A's standard error is below options.noise in every channel
-// (measured at the photo's mean luminance) and the estimated per-pixel error
-// below options.error. The light's rare paths make both estimates read low at
-// a few samples, hence the start at 256.
+// kFirstFitSpp until A's standard error is below options.noise in every
+// channel (measured at the photo's mean luminance) and the estimated per-pixel
+// error below options.error. The light's rare paths make both estimates read
+// low at a few samples, hence no lower start.
 RenderResult FitSession::fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast) {
     RenderResult r;
     if (outcome_.spp > 0) {
         r = render_at(ks, contrast, outcome_.spp);
     } else {
-        constexpr int kFirstFitSpp = 256;
         for (int spp = std::min(kFirstFitSpp, options_.spp_max);; spp *= 2) {
             r = render_at(ks, contrast, spp);
             const float e = options_.exposure > 0 ? options_.exposure : matching_exposure(r.film, photo_);

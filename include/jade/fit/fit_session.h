@@ -30,6 +30,13 @@
 
 namespace jade {
 
+// The samples per pixel the first fitting render starts from when FitOptions::spp
+// is 0 (FitSession::fitting_render). Below about 64 the light's rare paths have
+// not shown up and both of its estimates (A's standard error, the estimated
+// error) read low; from 64 on the demo's error falls as 1/√spp (README, "How
+// the error falls").
+constexpr int kFirstFitSpp = 128;
+
 struct FitOptions {
     FitMethod method = FitMethod::Contrast;
     std::optional<std::array<double, 3>> ks_start;  // default: the volume's own k_s
@@ -40,7 +47,7 @@ struct FitOptions {
     // keeps the volume's own.
     bool fit_density = true;
     int width = 0;              // fitting renders: 0 = a quarter of the camera's width (at least 32)
-    int spp = 0;                // 0 = chosen by the first fitting render
+    int spp = 0;                // 0 = chosen by the first fitting render, from kFirstFitSpp
     double noise = 0.3;         // standard error of A, gray levels, the chosen spp must reach
     double error = 0.4;         // and the estimated relative error (per pixel)
     int spp_max = 4096;         // the most the first fitting render doubles to
