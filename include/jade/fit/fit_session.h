@@ -31,10 +31,11 @@
 namespace jade {
 
 // The samples per pixel the first fitting render starts from when FitOptions::spp
-// is 0 (FitSession::fitting_render). Below about 64 the light's rare paths have
-// not shown up and both of its estimates (A's standard error, the estimated
-// error) read low; from 64 on the demo's error falls as 1/√spp (README, "How
-// the error falls").
+// is 0 (FitSession::fitting_render). At a few samples the light's rare paths
+// have not shown up and both of its estimates (A's standard error, the
+// estimated error) read low; from 64 on the demo's error falls about as
+// 1/√spp (README, "How the error falls"). 256 until the default command neared
+// its 5 minutes (README, "The fit").
 constexpr int kFirstFitSpp = 128;
 
 struct FitOptions {
