@@ -147,19 +147,126 @@ nlohmann::json appearance_json(const Appearance& look) {
             {"render_spectrum", spectrum_json(look.render)}};
 }
 
+// The programs and libraries that made the outputs.
+nlohmann::json versions_json() {
+    return {{"jaderender", JADE_VERSION},      {"openvdb", openvdb_version()},
+            {"openimageio", OIIO_VERSION_STRING}, {"embree", RTC_VERSION_STRING},
+            {"tbb", TBB_VERSION_STRING}};
+}
+
+nlohmann::json volume_json(const PipelineOptions& o, const MaterialVolume& volume) {
+    return {{"from", o.volume.empty() ? "built from the photo" : o.volume},
+            {"resolution", volume.resolution}, {"octaves", volume.noise.octaves},
+            {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"structure", to_string(volume.structure)},
+            {"frequency", volume.noise.frequency}, {"stretch", volume.noise.stretch},
+            {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
+            {"match", to_string(volume.match)},
+            {"ds", volume.optics.ds}, {"da", volume.optics.da},
+            {"density_scale", volume.optics.density_scale}, {"contrast", volume.optics.contrast},
+            {"mean_level", volume.optics.mean_level},
+            {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side},
+            {"vdb_up_axis", o.vdb_z_up ? "z" : "y"}, {"vdb_color_grid", o.vdb_color_name}};
+}
+
+// ΔA and D of the fitting render at the chosen k_s, contrast and density
+// scale (the best per channel may come from different renders), and under
+// --fit contrast ΔA at the final render's size, which it judged too.
+void add_final_residuals(const FitOutcome& fit, nlohmann::json& out) {
+    std::array<double, 3> delta{}, dist{}, at_final_size{-1e300, -1e300, -1e300};
+    for (int c = 0; c < 3; ++c) {
+        double best = 1e300;
+        for (const FitRecord& r : fit.records)
+            if (!r.shading && r.ks[c] == fit.ks[c] && r.contrast[c] == fit.contrast[c] &&
+                r.density_scale == fit.density_scale && std::abs(r.delta[c]) < best) {
+                best = std::abs(r.delta[c]);
+                delta[c] = r.delta[c];
+                dist[c] = r.distance[c];
+                at_final_size[c] = r.a_final_size[c] >= 0.0 ? r.a_final_size[c] - r.a_photo[c] : -1e300;
+            }
+    }
+    const bool have_final_size =
+        std::all_of(at_final_size.begin(), at_final_size.end(), [](double d) { return d > -1e299; });
+    out["final_delta_A"] = delta;
+    out["final_D"] = dist;
+    if (have_final_size) out["final_delta_A_final_size"] = at_final_size;
+}
+
+nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
+    std::array<std::string, 3> status;
+    for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);
+    nlohmann::json j = {
+        {"method", to_string(o.fit.method)}, {"renders", fit.renders},
+        {"max_renders", o.fit.max_renders}, {"spp", fit.spp}, {"width", fit.width},
+        {"height", fit.height}, {"noise_target", o.fit.noise}, {"error_target", o.fit.error},
+        {"estimated_relative_error", fit.estimated_error}, {"exposure", fit.exposure},
+        {"exposure_matched", fit.exposure_matched}, {"tolerance", fit.limits.tolerance},
+        {"step", fit.limits.step}, {"ks_start", fit.ks_start}, {"ks_min", fit.limits.k_min},
+        {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"contrast_start", fit.contrast_start},
+        {"contrast", fit.contrast}, {"density_scale_start", fit.density_scale_start},
+        {"density_scale", fit.density_scale}, {"converged", fit.converged}, {"channel_status", status}};
+    if (o.fit.method == FitMethod::Contrast)
+        j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
+                  {"material", fit.s_material}, {"material_block", fit.material_block}};
+    if (!fit.records.empty()) add_final_residuals(fit, j);
+    return j;
+}
+
+nlohmann::json final_render_json(const PipelineReport& in) {
+    const RenderResult& render = in.result.final_render;
+    const PassRecord& last = render.passes.back();
+    return {{"width", in.replay.width}, {"height", in.replay.height},
+            {"spp", last.spp}, {"seconds", render.seconds},
+            {"estimated_relative_error", last.estimated_error},
+            {"stopped_by", render.stopped_by},
+            {"capped_paths", render.counters.capped_paths},
+            {"sphere_walks", render.counters.sphere_walks},
+            {"A_render", in.final_stats.a}};
+}
+
+nlohmann::json brightness_check_json(const BrightnessCheck& b) {
+    return {{"A_full_size_from", b.from_fit ? "fit renders" : "check renders"},
+            {"spp", b.spp}, {"seconds", b.seconds}, {"A_size_change", b.size_change},
+            {"delta_A", b.delta}, {"fitting_renders", b.renders},
+            {"delta_A_expected", b.expected},
+            {"ks_before", b.ks_before}, {"ks", b.ks_after}, {"corrected", b.corrected()}};
+}
+
+// The material with the shading divided out (fit/appearance.h).
+nlohmann::json material_json(const MaterialAppearance& m) {
+    return {{"S_material", m.s_material}, {"S_material_noise", m.s_noise}, {"S_photo", m.s_photo},
+            {"D", m.d}, {"structure_distance", m.structure}, {"spectrum", spectrum_json(m.spectrum)},
+            {"block_pixels", m.block}, {"blocks", m.blocks}};
+}
+
+nlohmann::json preview_json(const GltfPreviewMaterial& pv) {
+    return {{"file", "preview.glb"},
+            {"base_color", pv.base_color},
+            {"transmission", pv.transmission},
+            {"attenuation_color", pv.attenuation_color},
+            {"attenuation_distance", pv.attenuation_distance},
+            {"thickness", pv.thickness},
+            {"ior", pv.ior},
+            {"mean_sigma_s", pv.sigma_s},
+            {"mean_sigma_a", pv.sigma_a},
+            {"slab_reflectance", pv.slab_R},
+            {"slab_transmittance", pv.slab_T}};
+}
+
+nlohmann::json seconds_json(const PipelineResult& res) {
+    return {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
+            {"brightness_check", res.seconds_check}, {"final_render", res.seconds_render},
+            {"measure_material", res.seconds_measure}, {"write", res.seconds_write},
+            {"total", res.seconds_total}};
+}
+
 }  // namespace
 
 std::string pipeline_report(const PipelineReport& in) {
     using nlohmann::json;
     const PipelineOptions& o = in.options;
     const PipelineResult& res = in.result;
-    const MaterialVolume& volume = in.volume;
-    const FitOutcome& fit = res.fit;
-    const PassRecord& last = res.final_render.passes.back();
     json j;
-    j["versions"] = {{"jaderender", JADE_VERSION},      {"openvdb", openvdb_version()},
-                     {"openimageio", OIIO_VERSION_STRING}, {"embree", RTC_VERSION_STRING},
-                     {"tbb", TBB_VERSION_STRING}};
+    j["versions"] = versions_json();
     j["inputs"] = {{"photo", o.photo}, {"mask", o.mask}, {"mesh", o.render.mesh},
                    {"foreground_pixels", in.photo.foreground_count()}};
     // The manifest: report.json is written last, so the set it names (each
@@ -168,95 +275,17 @@ std::string pipeline_report(const PipelineReport& in) {
     for (const std::string& path : res.written)
         outputs[std::filesystem::path(path).filename().string()] = file_size(path);
     j["outputs"] = outputs;
-    j["volume"] = {{"from", o.volume.empty() ? "built from the photo" : o.volume},
-                   {"resolution", volume.resolution}, {"octaves", volume.noise.octaves},
-                   {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"structure", to_string(volume.structure)},
-                   {"frequency", volume.noise.frequency}, {"stretch", volume.noise.stretch},
-                   {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
-                   {"match", to_string(volume.match)},
-                   {"ds", volume.optics.ds}, {"da", volume.optics.da},
-                   {"density_scale", volume.optics.density_scale}, {"contrast", volume.optics.contrast},
-                   {"mean_level", volume.optics.mean_level},
-                   {"cube_min", volume.cube.min}, {"cube_side", volume.cube.side},
-                   {"vdb_up_axis", o.vdb_z_up ? "z" : "y"}, {"vdb_color_grid", o.vdb_color_name}};
+    j["volume"] = volume_json(o, in.volume);
     if (res.structure_estimated) j["structure"] = structure_json(res);
-    std::array<std::string, 3> status;
-    for (int c = 0; c < 3; ++c) status[c] = channel_status(fit, c);
-    j["fit"] = {{"method", to_string(o.fit.method)}, {"renders", fit.renders},
-                {"max_renders", o.fit.max_renders}, {"spp", fit.spp}, {"width", fit.width},
-                {"height", fit.height}, {"noise_target", o.fit.noise}, {"error_target", o.fit.error},
-                {"estimated_relative_error", fit.estimated_error}, {"exposure", fit.exposure},
-                {"exposure_matched", fit.exposure_matched}, {"tolerance", fit.limits.tolerance},
-                {"step", fit.limits.step}, {"ks_start", fit.ks_start}, {"ks_min", fit.limits.k_min},
-                {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"contrast_start", fit.contrast_start},
-                {"contrast", fit.contrast}, {"density_scale_start", fit.density_scale_start},
-                {"density_scale", fit.density_scale}, {"converged", fit.converged}, {"channel_status", status}};
-    if (o.fit.method == FitMethod::Contrast)
-        j["fit"]["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
-                         {"material", fit.s_material}, {"material_block", fit.material_block}};
-    if (!fit.records.empty()) {
-        // The fitting render at the chosen k_s (the best per channel may come from different renders).
-        // --fit contrast judged ΔA at the final render's size: that one too.
-        std::array<double, 3> delta{}, dist{}, at_final_size{-1e300, -1e300, -1e300};
-        for (int c = 0; c < 3; ++c) {
-            double best = 1e300;
-            for (const FitRecord& r : fit.records)
-                if (!r.shading && r.ks[c] == fit.ks[c] && r.contrast[c] == fit.contrast[c] &&
-                    r.density_scale == fit.density_scale &&
-                    std::abs(r.delta[c]) < best) {
-                    best = std::abs(r.delta[c]);
-                    delta[c] = r.delta[c];
-                    dist[c] = r.distance[c];
-                    at_final_size[c] = r.a_final_size[c] >= 0.0 ? r.a_final_size[c] - r.a_photo[c] : -1e300;
-                }
-        }
-        const bool have_final_size =
-            std::all_of(at_final_size.begin(), at_final_size.end(), [](double d) { return d > -1e299; });
-        j["fit"]["final_delta_A"] = delta;
-        j["fit"]["final_D"] = dist;
-        if (have_final_size) j["fit"]["final_delta_A_final_size"] = at_final_size;
-    }
-    j["final_render"] = {{"width", in.replay.width}, {"height", in.replay.height},
-                         {"spp", last.spp}, {"seconds", res.final_render.seconds},
-                         {"estimated_relative_error", last.estimated_error},
-                         {"stopped_by", res.final_render.stopped_by},
-                         {"capped_paths", res.final_render.counters.capped_paths},
-                         {"sphere_walks", res.final_render.counters.sphere_walks},
-                         {"A_render", in.final_stats.a}};
-    if (const auto& b = res.brightness_check)
-        j["brightness_check"] = {{"A_full_size_from", b->from_fit ? "fit renders" : "check renders"},
-                                 {"spp", b->spp}, {"seconds", b->seconds}, {"A_size_change", b->size_change},
-                                 {"delta_A", b->delta}, {"fitting_renders", b->renders},
-                                 {"delta_A_expected", b->expected},
-                                 {"ks_before", b->ks_before}, {"ks", b->ks_after}, {"corrected", b->corrected()}};
+    j["fit"] = fit_json(o, res.fit);
+    j["final_render"] = final_render_json(in);
+    if (const auto& b = res.brightness_check) j["brightness_check"] = brightness_check_json(*b);
     j["appearance"] = appearance_json(res.final_look);
-    if (res.material)  // the material with the shading divided out (fit/appearance.h)
-        j["appearance"]["material"] = {{"S_material", res.material->s_material},
-                                       {"S_material_noise", res.material->s_noise},
-                                       {"S_photo", res.material->s_photo},
-                                       {"D", res.material->d},
-                                       {"structure_distance", res.material->structure},
-                                       {"spectrum", spectrum_json(res.material->spectrum)},
-                                       {"block_pixels", res.material->block},
-                                       {"blocks", res.material->blocks}};
-    const GltfPreviewMaterial& pv = res.preview;
-    j["preview"] = {{"file", "preview.glb"},
-                    {"base_color", pv.base_color},
-                    {"transmission", pv.transmission},
-                    {"attenuation_color", pv.attenuation_color},
-                    {"attenuation_distance", pv.attenuation_distance},
-                    {"thickness", pv.thickness},
-                    {"ior", pv.ior},
-                    {"mean_sigma_s", pv.sigma_s},
-                    {"mean_sigma_a", pv.sigma_a},
-                    {"slab_reflectance", pv.slab_R},
-                    {"slab_transmittance", pv.slab_T}};
+    if (res.material) j["appearance"]["material"] = material_json(*res.material);
+    j["preview"] = preview_json(res.preview);
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));
-    j["seconds"] = {{"inputs", res.seconds_photo}, {"volume", res.seconds_volume}, {"fit", res.seconds_fit},
-                    {"brightness_check", res.seconds_check}, {"final_render", res.seconds_render}, {"measure_material", res.seconds_measure},
-                    {"write", res.seconds_write},
-                    {"total", res.seconds_total}};
+    j["seconds"] = seconds_json(res);
     j["peak_memory_bytes"] = peak_rss_bytes();
     j["warnings"] = res.warnings;
     return j.dump(2) + "\n";
