@@ -13,6 +13,7 @@
 #include "jade/core/progress.h"
 #include "jade/app/job.h"
 #include "jade/app/render_job.h"
+#include "jade/app/report.h"
 #include "jade/core/timing.h"
 #include "jade/io/vdb_io.h"
 
@@ -606,76 +607,7 @@ int run_pipeline(PipelineFlags& p) {
     o.render = p.scene.job;
     o.progress = true;
     const jade::PipelineResult r = jade::run_pipeline(o);
-    for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());
-    const jade::FitOutcome& fit = r.fit;
-    for (int c = 0; c < 3; ++c)
-        if (fit.state[c] != jade::ChannelState::Converged)
-            std::fprintf(stderr, "jaderender: warning: fit: %s\n", fit.reason[c].c_str());
-    const jade::FitRecord* best = fit.records.empty() ? nullptr : &fit.records.back();
-    const bool contrast = o.fit.method == jade::FitMethod::Contrast;
-    char goal[96];
-    std::snprintf(goal, sizeof goal, contrast ? "|dA| < %g and |dS| < %g in every channel" : "|dA| < %g in every channel",
-                  fit.limits.tolerance, o.fit.s_tolerance);
-    std::printf("fit (%s): %d renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
-                "(%.3f, %.3f, %.3f); %s\n",
-                p.fit.c_str(), fit.renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
-                fit.ks[2], fit.contrast[0], fit.contrast[1], fit.contrast[2],
-                fit.converged ? goal : "NOT converged (see the warnings)");
-    if (contrast)
-        std::printf("  S_material (the render's spread less its shading and noise): (%.1f, %.1f, %.1f); the photo's "
-                    "S at the same scale (%d px blocks of the final render): (%.1f, %.1f, %.1f); density scale %.4g "
-                    "(from %.4g)\n",
-                    fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.material_block, fit.s_photo[0],
-                    fit.s_photo[1], fit.s_photo[2], fit.density_scale, fit.density_scale_start);
-    if (best)
-        std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
-                    "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",
-                    best->a_photo[0], best->a_photo[1], best->a_photo[2], best->a_render[0], best->a_render[1],
-                    best->a_render[2], best->delta[0], best->delta[1], best->delta[2], best->a_sigma[0],
-                    best->a_sigma[1], best->a_sigma[2]);
-    const jade::PassRecord& last = r.final_render.passes.back();
-    if (const auto& b = r.brightness_check) {
-        std::printf("brightness check in %.1f s, A at full size from the %s renders at %d spp: A at full size less A "
-                    "at the fitting size (%+.2f, %+.2f, %+.2f), so dA (%+.2f, %+.2f, %+.2f) expected",
-                    b->seconds, b->from_fit ? "fit's" : "check's", b->spp, b->size_change[0], b->size_change[1],
-                    b->size_change[2], b->delta[0], b->delta[1], b->delta[2]);
-        if (b->corrected())
-            std::printf("; k_s corrected to (%.4f, %.4f, %.4f) (fitting renders: %d), dA (%+.2f, %+.2f, %+.2f) "
-                        "expected\n",
-                        b->ks_after[0], b->ks_after[1], b->ks_after[2], b->renders, b->expected[0], b->expected[1],
-                        b->expected[2]);
-        else
-            std::printf("; k_s kept\n");
-    }
-    std::printf("final render: %d spp in %.1f s, estimated relative error %.4f\n", last.spp,
-                r.final_render.seconds, last.estimated_error);
-    const jade::Appearance& look = r.final_look;
-    std::printf("final render against the photo: A (%.1f, %.1f, %.1f) / (%.1f, %.1f, %.1f), S (%.1f, %.1f, %.1f) / "
-                "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f\n",
-                look.a_render[0], look.a_render[1], look.a_render[2], look.a_photo[0], look.a_photo[1], look.a_photo[2],
-                look.s_render[0], look.s_render[1], look.s_render[2], look.s_photo[0], look.s_photo[1],
-                look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure);
-    if (r.material)
-        std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
-                    "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f; its two renders %.1f s\n",
-                    r.material->block, r.material->s_material[0], r.material->s_material[1],
-                    r.material->s_material[2], r.material->s_photo[0], r.material->s_photo[1],
-                    r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2],
-                    r.material->structure, r.seconds_measure);
-    if (r.structure_estimated)
-        std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
-                    "bands %.1f, warp %.2f; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",
-                    r.seconds_structure, r.structure.chosen.noise.frequency, r.structure.chosen.noise.k,
-                    r.structure.chosen.noise.stretch, r.structure.chosen.noise.angle, r.structure.chosen.noise.bands,
-                    r.structure.chosen.noise.warp, r.structure.chosen.distance,
-                    r.structure.paper.distance);
-    std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, brightness check %.2f, final render %.2f, writing %.2f; "
-                "total %.1f; peak memory %s\n",
-                r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_check, r.seconds_render, r.seconds_write,
-                r.seconds_total, jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
-    std::printf("outputs in %s/:", r.out_dir.c_str());
-    for (const auto& f : r.written) std::printf(" %s", std::filesystem::path(f).filename().c_str());
-    std::printf("\n");
+    jade::print_pipeline_summary(o, r);
     return 0;
 }
 

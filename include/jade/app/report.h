@@ -40,4 +40,9 @@ struct PipelineReport {
 };
 std::string pipeline_report(const PipelineReport& report);
 
+// What the pipeline prints when it is done (warnings to stderr, the rest to
+// stdout): the fit, the brightness check, the final render against the
+// photo, the seconds of each stage and the outputs.
+void print_pipeline_summary(const PipelineOptions& options, const PipelineResult& result);
+
 }  // namespace jade
