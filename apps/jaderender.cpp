@@ -246,10 +246,10 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
     group_from(cmd, pieces, "Split rendering (a cluster's or render farm's tasks)");
 }
 
-// Boundary, camera, lights and sampling: shared by `render` and the pipeline.
-void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag = "--seed") {
+// The boundary and phase function flags of a render.
+void add_boundary_flags(CLI::App& cmd, RenderFlags& f) {
     jade::RenderJob& j = f.job;
-    std::size_t first = cmd.get_options().size();
+    const std::size_t first = cmd.get_options().size();
     cmd.add_option("--boundary", f.boundary,
                    "Interface: 'split' (paper: reflect with weight --specular), 'fresnel' (exact), "
                    "'none' (index-matched)")
@@ -259,7 +259,12 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
         ->capture_default_str();
     cmd.add_option("--g", j.g, "Henyey-Greenstein asymmetry (0 = isotropic)")->capture_default_str();
     group_from(cmd, first, "Boundary and phase function");
-    first = cmd.get_options().size();
+}
+
+// The camera flags of a render.
+void add_camera_flags(CLI::App& cmd, RenderFlags& f) {
+    jade::RenderJob& j = f.job;
+    const std::size_t first = cmd.get_options().size();
     cmd.add_option("--camera-origin", f.origin.text,
                    "Camera position x,y,z (default: framed from the mesh's upper front)");
     cmd.add_option("--camera-target", f.target.text, "Point looked at (default: the mesh's centre)");
@@ -270,7 +275,12 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_option("--width", j.width, "Image width, pixels")->capture_default_str();
     cmd.add_option("--height", j.height, "Image height, pixels")->capture_default_str();
     group_from(cmd, first, "Camera");
-    first = cmd.get_options().size();
+}
+
+// The lights of a render.
+void add_light_flags(CLI::App& cmd, RenderFlags& f) {
+    jade::RenderJob& j = f.job;
+    const std::size_t first = cmd.get_options().size();
     cmd.add_option("--light-dir", f.light_dir.text,
                    "Direction toward the directional light (default 0.35,0.8,0.5: upper front right)");
     cmd.add_option("--light-irradiance", j.light_irradiance,
@@ -294,7 +304,12 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
     cmd.add_flag("--transparent", j.transparent,
                  "Camera rays that miss see nothing; alpha = object coverage");
     group_from(cmd, first, "Lights");
-    first = cmd.get_options().size();
+}
+
+// How a render samples and when it stops.
+void add_rendering_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag) {
+    jade::RenderJob& j = f.job;
+    const std::size_t first = cmd.get_options().size();
     cmd.add_option("--spp", j.settings.spp, "Samples per pixel (stop)")->capture_default_str();
     cmd.add_option("--time", j.settings.time_limit, "Time budget in seconds (stop; 0 = none)")
         ->capture_default_str();
@@ -338,6 +353,14 @@ void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag
                    "without it")
         ->capture_default_str();
     group_from(cmd, first, "Rendering");
+}
+
+// Boundary, camera, lights and sampling: shared by `render` and the pipeline.
+void add_scene_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_flag = "--seed") {
+    add_boundary_flags(cmd, f);
+    add_camera_flags(cmd, f);
+    add_light_flags(cmd, f);
+    add_rendering_flags(cmd, f, seed_flag);
 }
 
 // Turns the text flags into the job's values (throws jade::Error naming the flag).
@@ -731,6 +754,24 @@ void describe_app(CLI::App& app) {
                "--out cow.exr");
 }
 
+// `jaderender volume` and its flags.
+CLI::App* add_volume_command(CLI::App& app, VolumeOptions& vol) {
+    CLI::App* volume_cmd = app.add_subcommand(
+        "volume", "Build the material volume from a photo (noise -> colour matching -> "
+                  "coefficients) and write it as .vdb");
+    add_volume_flags(*volume_cmd, vol);
+    volume_cmd->add_option("--out", vol.out, "Output .vdb file")->required();
+    volume_cmd->add_option("--contrast", vol.contrast.text,
+                           "Contrast of the levels about their mean, r,g,b (0..16; default 1, the paper's)");
+    volume_cmd->add_flag("--z-up", vol.z_up, "Write the grids Z-up (Blender) rather than Y-up (glTF, Houdini)");
+    volume_cmd->add_option("--vdb-color", vol.color_name, "Name of the albedo grid: 'color' (Blender) or 'Cd' (Houdini)")
+        ->check(CLI::IsMember({"color", "Cd"}))
+        ->capture_default_str();
+    volume_cmd->add_option("--preview", vol.preview,
+                           "Also write the middle slice of the matched noise as an image");
+    return volume_cmd;
+}
+
 int run_command(int argc, char** argv) {
     CLI::App app{"jaderender: Monte Carlo rendering and fitting of heterogeneous translucent "
                  "materials (jade, marble) from one photograph"};
@@ -750,19 +791,7 @@ int run_command(int argc, char** argv) {
     add_threads(app);
 
     VolumeOptions vol;
-    auto* volume_cmd = app.add_subcommand(
-        "volume", "Build the material volume from a photo (noise -> colour matching -> "
-                  "coefficients) and write it as .vdb");
-    add_volume_flags(*volume_cmd, vol);
-    volume_cmd->add_option("--out", vol.out, "Output .vdb file")->required();
-    volume_cmd->add_option("--contrast", vol.contrast.text,
-                           "Contrast of the levels about their mean, r,g,b (0..16; default 1, the paper's)");
-    volume_cmd->add_flag("--z-up", vol.z_up, "Write the grids Z-up (Blender) rather than Y-up (glTF, Houdini)");
-    volume_cmd->add_option("--vdb-color", vol.color_name, "Name of the albedo grid: 'color' (Blender) or 'Cd' (Houdini)")
-        ->check(CLI::IsMember({"color", "Cd"}))
-        ->capture_default_str();
-    volume_cmd->add_option("--preview", vol.preview,
-                           "Also write the middle slice of the matched noise as an image");
+    CLI::App* volume_cmd = add_volume_command(app, vol);
 
     RenderFlags render_flags;
     if (!preload_job(argc, argv, render_flags)) return 2;
