@@ -17,6 +17,14 @@ void orthonormal_basis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2) {
     b2 = glm::vec3(b, sign + n.y * n.y * a, -n.y);
 }
 
+glm::vec3 uniform_sphere(float u1, float u2) {
+    // z uniform in [−1, 1] makes the density uniform in solid angle
+    // (Archimedes' hat-box theorem).
+    const float z = 1.f - 2.f * u1, r = std::sqrt(std::max(0.f, (1.f - z) * (1.f + z)));
+    const float phi = 2.f * kPi * u2;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
 glm::vec3 uniform_cone(const glm::vec3& axis, float cos_max, float u1, float u2) {
     // cos θ uniform in [cos_max, 1] makes the density uniform in solid angle.
     const float cos_t = 1.f - u1 * (1.f - cos_max);

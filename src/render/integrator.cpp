@@ -2,6 +2,7 @@
 
 #include "jade/core/error.h"
 #include "jade/core/math.h"
+#include "jade/core/sampling.h"
 #include "jade/render/dielectric.h"
 
 #include <glm/common.hpp>
@@ -485,8 +486,15 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
         for (const auto& e : *light) estimate_light(s, *e, s.collision);
     const glm::vec3 d_in = s.d;
     s.o = s.collision;
+    // An isotropic direction does not depend on the incoming one: drawn in
+    // the world's frame, it needs no basis built about d_in (scenes A and B
+    // took 4–6 % less time). The pixel's stratified numbers keep d_in's
+    // frame, where their strata part the directions back toward the surface
+    // the camera ray came in by from those going deeper.
+    const bool stratified = s.first_direction_unused;
     const std::array<float, 2> u = s.direction_numbers();
-    s.d = scene_.phase.sample(d_in, u[0], u[1]);
+    s.d = scene_.phase.isotropic() && !stratified ? uniform_sphere(u[0], u[1])
+                                                  : scene_.phase.sample(d_in, u[0], u[1]);
     s.straight = false;
     s.chain.scattered();
     s.scattered_at = s.collision;

@@ -154,8 +154,7 @@ Spectrum Environment::radiance_toward(const glm::vec3& w) const {
 DistantSample Environment::sample(float u1, float u2) const {
     DistantSample ds;
     if (!image_) {  // uniform over the sphere
-        const float z = 1.f - 2.f * u1, r = std::sqrt(std::max(0.f, 1.f - z * z));
-        ds.direction = {r * std::cos(2.f * kPi * u2), r * std::sin(2.f * kPi * u2), z};
+        ds.direction = uniform_sphere(u1, u2);
         ds.pdf = 1.f / (4.f * kPi);
         ds.radiance = constant_;
         return ds;

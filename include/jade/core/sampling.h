@@ -10,6 +10,10 @@ namespace jade {
 // (Duff et al. 2017, "Building an orthonormal basis, revisited").
 void orthonormal_basis(const glm::vec3& n, glm::vec3& b1, glm::vec3& b2);
 
+// Direction uniform over the unit sphere (density 1/(4π)), in the world's
+// frame: z = 1 − 2·u1 and the azimuth 2π·u2.
+glm::vec3 uniform_sphere(float u1, float u2);
+
 // Direction uniform in solid angle over the cone of unit `axis` with half-angle
 // acos(cos_max), cos_max < 1; and that density, 1 / (2π (1 − cos_max)).
 glm::vec3 uniform_cone(const glm::vec3& axis, float cos_max, float u1, float u2);

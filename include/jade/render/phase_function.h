@@ -14,6 +14,8 @@ class PhaseFunction {
 public:
     explicit PhaseFunction(float g = 0.f);
     float g() const { return g_; }
+    // g = 0: every direction equally likely, whatever the incoming one.
+    bool isotropic() const { return g_ == 0.f; }
     // Value (= pdf) for propagation directions `in` and `out` (unit vectors).
     float eval(const glm::vec3& in, const glm::vec3& out) const;
     // Outgoing direction for incoming `in` from two uniform numbers in [0, 1).
