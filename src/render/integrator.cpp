@@ -488,7 +488,7 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     s.o = s.collision;
     // An isotropic direction does not depend on the incoming one: drawn in
     // the world's frame, it needs no basis built about d_in (scenes A and B
-    // took 4–6 % less time). The pixel's stratified numbers keep d_in's
+    // took 2.5–4 % less time). The pixel's stratified numbers keep d_in's
     // frame, where their strata part the directions back toward the surface
     // the camera ray came in by from those going deeper.
     const bool stratified = s.first_direction_unused;
