@@ -29,10 +29,38 @@ struct MeshAccel::Embree {
     }
 };
 
+// The shading normal is the normalised ñ = Σ b_i n_i over the barycentrics
+// b_i, which are linear in the position y on the triangle's plane: with
+// e1 = p1 − p0, e2 = p2 − p0 and N = e1 × e2, ∇b_1 = (e2 × N) / |N|² and
+// ∇b_2 = (N × e1) / |N|², so ñ changes along a tangent t by
+// (n1 − n0)(∇b_1·t) + (n2 − n0)(∇b_2·t). A degenerate triangle has no frame
+// (zero tangents), a flat-shaded one no change of the normal.
+MeshAccel::TriangleFrame MeshAccel::triangle_frame(const TriangleMesh& mesh, std::size_t t, const glm::vec3& face,
+                                                   bool flat) {
+    TriangleFrame f{};
+    const auto& tri = mesh.triangles[t];
+    const glm::vec3 e1 = mesh.positions[tri[1]] - mesh.positions[tri[0]];
+    const glm::vec3 e2 = mesh.positions[tri[2]] - mesh.positions[tri[0]];
+    const float e1_len = glm::length(e1);
+    if (!(e1_len > 0.f)) return f;
+    f.tangent[0] = e1 / e1_len;
+    f.tangent[1] = glm::cross(face, f.tangent[0]);
+    if (flat) return f;
+    const glm::vec3 N = glm::cross(e1, e2);
+    const float N2 = glm::dot(N, N);
+    const glm::vec3 grad_u = glm::cross(e2, N) / N2, grad_v = glm::cross(N, e1) / N2;
+    const glm::vec3& n0 = mesh.normals[tri[0]];
+    for (int k = 0; k < 2; ++k)
+        f.dn[k] = (mesh.normals[tri[1]] - n0) * glm::dot(grad_u, f.tangent[k]) +
+                  (mesh.normals[tri[2]] - n0) * glm::dot(grad_v, f.tangent[k]);
+    return f;
+}
+
 MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat, bool detect_convex)
     : mesh_(mesh), bounds_(mesh.bounds()), flat_(flat), embree_(std::make_unique<Embree>()),
       clearance_(mesh, kClearanceCells), convex_(detect_convex && is_convex(mesh)) {
     shading_.reserve(mesh.triangles.size());
+    frames_.reserve(mesh.triangles.size());
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const glm::vec3 n = mesh.face_normal(t);
         const float len = glm::length(n);
@@ -41,6 +69,7 @@ MeshAccel::MeshAccel(const TriangleMesh& mesh, bool flat, bool detect_convex)
         for (int k = 0; k < 3; ++k)
             ts.normal[k] = flat ? ts.face : mesh.normals[mesh.triangles[t][std::size_t(k)]];
         shading_.push_back(ts);
+        frames_.push_back(triangle_frame(mesh, t, ts.face, flat));
     }
     embree_->device = rtcNewDevice(nullptr);
     if (!embree_->device) throw Error("cannot start Embree (rtcNewDevice failed)");
@@ -246,35 +275,20 @@ std::optional<SurfaceHit> MeshAccel::intersect_triangle(const glm::vec3& o, cons
     return surface(RayHit{t, triangle, u, v});
 }
 
-// The shading normal is the normalised ñ = Σ b_i n_i over the barycentrics
-// b_i, which are linear in the position y on the triangle's plane: with
-// e1 = p1 − p0, e2 = p2 − p0 and N = e1 × e2, ∇b_1 = (e2 × N) / |N|² and
-// ∇b_2 = (N × e1) / |N|². The unit normal then varies as
-// dn = (I − n nᵀ) dñ / |ñ|.
+// The unit normal n = ñ / |ñ| varies as dn = (I − n nᵀ) dñ / |ñ|, dñ from
+// the triangle's frame (triangle_frame).
 SurfaceDifferential MeshAccel::differential(const SurfaceHit& hit) const {
     SurfaceDifferential sd;
-    const auto& tri = mesh_.triangles[hit.triangle];
-    const glm::vec3 e1 = mesh_.positions[tri[1]] - mesh_.positions[tri[0]];
-    const glm::vec3 e2 = mesh_.positions[tri[2]] - mesh_.positions[tri[0]];
-    const float e1_len = glm::length(e1);
-    if (!(e1_len > 0.f)) return sd;
-    sd.tangent[0] = e1 / e1_len;
-    sd.tangent[1] = glm::cross(hit.geometric_normal, sd.tangent[0]);
-    if (flat_) return sd;
-    const glm::vec3 N = glm::cross(e1, e2);
-    const float N2 = glm::dot(N, N);
-    const glm::vec3 grad_u = glm::cross(e2, N) / N2, grad_v = glm::cross(N, e1) / N2;
-    const glm::vec3& n0 = mesh_.normals[tri[0]];
-    const glm::vec3 nt = (1.f - hit.u - hit.v) * n0 + hit.u * mesh_.normals[tri[1]] +
-                         hit.v * mesh_.normals[tri[2]];
+    const TriangleFrame& f = frames_[hit.triangle];
+    sd.tangent[0] = f.tangent[0];
+    sd.tangent[1] = f.tangent[1];
+    if (flat_ || f.tangent[0] == glm::vec3(0.f)) return sd;
+    const TriangleShading& ts = shading_[hit.triangle];
+    const glm::vec3 nt = (1.f - hit.u - hit.v) * ts.normal[0] + hit.u * ts.normal[1] + hit.v * ts.normal[2];
     const float len = glm::length(nt);
     if (!(len > 1e-6f)) return sd;  // the shading normal fell back to the face's
     const glm::vec3 n = nt / len;
-    for (int k = 0; k < 2; ++k) {
-        const glm::vec3 dnt = (mesh_.normals[tri[1]] - n0) * glm::dot(grad_u, sd.tangent[k]) +
-                              (mesh_.normals[tri[2]] - n0) * glm::dot(grad_v, sd.tangent[k]);
-        sd.dn[k] = (dnt - n * glm::dot(n, dnt)) / len;
-    }
+    for (int k = 0; k < 2; ++k) sd.dn[k] = (f.dn[k] - n * glm::dot(n, f.dn[k])) / len;
     return sd;
 }
 

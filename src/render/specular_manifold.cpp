@@ -23,6 +23,9 @@ constexpr float kCheckExitBelow = 1e-3f;
 // A constraint this small at a point that is not an exit: a root of the
 // wrong kind (newton_walk).
 constexpr float kSpuriousBelow = 1e-5f;
+// A hit this close to the walk's exit, relative to its distance, is the
+// exit's own surface (a neighbouring triangle across an edge).
+constexpr float kSameSurface = 1e-4f;
 
 // The refraction out of interior direction w through outward unit shading
 // normal ns (w·ns = c > 0): with n = −ns facing the inside and η = 1 / ior,
@@ -85,15 +88,19 @@ std::optional<RefractedExit> exit_at(const Scene& scene, const glm::vec3& w, con
 }
 
 // The seed: the target direction, followed backwards from where it meets
-// the surface seen from p, refracted inward; exact on a flat surface.
-std::optional<glm::vec3> seed_direction(const Scene& scene, const glm::vec3& p,
-                                        const glm::vec3& target) {
+// the surface seen from p, refracted inward; exact on a flat surface. Also
+// the triangle met there, where the seed's own ray most often lands too.
+struct Seed {
+    glm::vec3 direction;
+    std::uint32_t triangle;
+};
+std::optional<Seed> seed_direction(const Scene& scene, const glm::vec3& p, const glm::vec3& target) {
     const auto probe = scene.boundary->intersect(p, target, 0.f, kInfinity);
     if (!probe || !(glm::dot(target, probe->geometric_normal) > 0.f)) return std::nullopt;
     const BoundaryTransmission in = boundary_transmission(
         scene.interface, -target, interface_normal(*probe, -target, true), true);
     if (in.direction == glm::vec3(0.f)) return std::nullopt;
-    return -in.direction;
+    return Seed{-in.direction, probe->triangle};
 }
 
 // A point of the walk: the surface hit from p along w, and the manifold
@@ -104,19 +111,24 @@ std::optional<glm::vec3> seed_direction(const Scene& scene, const glm::vec3& p,
 // both sides of the critical angle, where Newton's method on the exterior
 // direction stalls. Its derivatives along the triangle's tangents are
 // δC = (−η δw) × n + H × δn, expressed in a frame (b1, b2) of n.
+// A point is made in two parts: its constraint's size first, which decides
+// whether a Newton step is kept, then (newton_walk's `complete`) the
+// derivatives the next step needs, only for the points kept.
 struct WalkPoint {
     SurfaceHit hit;
     glm::vec3 y{0.f};   // the point the walk moves: where the ray from p meets the surface
     glm::vec3 w{0.f};
+    glm::vec3 H{0.f}, C{0.f};
     float error = 0.f;  // |C| / |H|: the sine of the angle between H and n
     glm::vec3 tangent[2];
     float c[2];         // C in the frame
     float a[2][2];      // ∂c_j / ∂tangent_k
 };
 
-// The walk point along w from p. A step that stays on the previous point's
-// triangle is intersected with that triangle alone (no BVH traversal; late
-// Newton steps are small); the walk's end is checked against the whole mesh.
+// The walk point along w from p, up to its derivatives. A step that stays
+// on the previous point's triangle is intersected with that triangle alone
+// (no BVH traversal; late Newton steps are small); the walk's end is
+// checked against the whole mesh.
 std::optional<WalkPoint> walk_point(const Scene& scene, const glm::vec3& p, const glm::vec3& w,
                                     const glm::vec3& target, const WalkPoint* previous = nullptr) {
     std::optional<SurfaceHit> hit;
@@ -127,22 +139,26 @@ std::optional<WalkPoint> walk_point(const Scene& scene, const glm::vec3& p, cons
     wp.hit = *hit;
     wp.y = p + hit->t * w;
     wp.w = w;
+    wp.H = target - scene.interface.ior * w;
+    wp.C = glm::cross(wp.H, hit->shading_normal);
+    wp.error = glm::length(wp.C) / std::max(glm::length(wp.H), 1e-12f);
+    return wp;
+}
+
+// The constraint's derivatives at a walk point.
+void walk_derivatives(const Scene& scene, WalkPoint& wp) {
     const float eta = scene.interface.ior;
-    const glm::vec3& n = hit->shading_normal;
-    const glm::vec3 H = target - eta * w;
-    const glm::vec3 C = glm::cross(H, n);
-    wp.error = glm::length(C) / std::max(glm::length(H), 1e-12f);
+    const glm::vec3& n = wp.hit.shading_normal;
     glm::vec3 b[2];
     orthonormal_basis(n, b[0], b[1]);
-    const SurfaceDifferential sd = scene.boundary->differential(*hit);
+    const SurfaceDifferential sd = scene.boundary->differential(wp.hit);
     for (int k = 0; k < 2; ++k) {
         wp.tangent[k] = sd.tangent[k];
-        const glm::vec3 dw = (sd.tangent[k] - w * glm::dot(w, sd.tangent[k])) / hit->t;
-        const glm::vec3 dC = glm::cross(-eta * dw, n) + glm::cross(H, sd.dn[k]);
+        const glm::vec3 dw = (sd.tangent[k] - wp.w * glm::dot(wp.w, sd.tangent[k])) / wp.hit.t;
+        const glm::vec3 dC = glm::cross(-eta * dw, n) + glm::cross(wp.H, sd.dn[k]);
         for (int j = 0; j < 2; ++j) wp.a[j][k] = glm::dot(b[j], dC);
     }
-    for (int j = 0; j < 2; ++j) wp.c[j] = glm::dot(b[j], C);
-    return wp;
+    for (int j = 0; j < 2; ++j) wp.c[j] = glm::dot(b[j], wp.C);
 }
 
 // The exit of a walk point whose constraint is small enough, if it leaves
@@ -151,8 +167,9 @@ std::optional<RefractedExit> converged(const Scene& scene, const glm::vec3& p, c
                                        const glm::vec3& target) {
     const auto e = exit_at(scene, wp.w, wp.hit);
     if (!e || !(glm::length(e->exterior - target) < kManifoldTolerance)) return std::nullopt;
-    const auto first = scene.boundary->intersect(p, wp.w, 0.f, kInfinity);
-    if (!first || first->triangle != wp.hit.triangle) return std::nullopt;
+    // Nothing on the segment before the exit (the walk's steps were tested
+    // against their own triangles only).
+    if (scene.boundary->occluded(p, wp.w, 0.f, wp.hit.t * (1.f - kSameSurface))) return std::nullopt;
     return e;
 }
 
@@ -161,7 +178,10 @@ std::optional<RefractedExit> converged(const Scene& scene, const glm::vec3& p, c
 // is projected back onto the mesh by a ray from p (so the segment p → y never
 // crosses the surface before y); a step that does not lower the constraint
 // is halved (Cycles' MNEE does the same). `at(w, previous)` is the walk point
-// along interior direction w; `converged(point)` its exit, if it is one.
+// along interior direction w up to its derivatives, `complete(point)` adds
+// them (only to the points a step keeps: most proposals of a walk that
+// stalls are not kept), and `converged(point)` is its exit, if it is one
+// (asked once a point: it is a function of the point).
 // With `stop_at_wrong_roots`, a constraint that has vanished at a point that
 // is not an exit ends the walk: a root of the wrong kind (the half vector
 // antiparallel to the refraction's, the target on the inner side), from
@@ -169,14 +189,17 @@ std::optional<RefractedExit> converged(const Scene& scene, const glm::vec3& p, c
 // failures on the demo, each spending all its proposals); the one-refraction
 // walk rarely, and there the steps that go on still find 5 of 338 sphere
 // solutions.
-template <class Point, class At, class Converged>
-auto newton_walk(const glm::vec3& p, std::optional<Point> cur, At at, Converged converged,
+template <class Point, class At, class Complete, class Converged>
+auto newton_walk(const glm::vec3& p, std::optional<Point> cur, At at, Complete complete, Converged converged,
                  bool stop_at_wrong_roots) -> decltype(converged(*cur)) {
+    if (cur) complete(*cur);
     float step = 1.f;
+    bool asked = false;  // converged(*cur) was asked, and was none
     for (int proposal = 0; cur && proposal < kMaxProposals; ++proposal) {
-        if (cur->error < kCheckExitBelow) {
+        if (!asked && cur->error < kCheckExitBelow) {
             if (auto exit = converged(*cur)) return exit;
             if (stop_at_wrong_roots && cur->error < kSpuriousBelow) return std::nullopt;
+            asked = true;
         }
         const float det = cur->a[0][0] * cur->a[1][1] - cur->a[0][1] * cur->a[1][0];
         if (!(std::abs(det) > 0.f)) break;
@@ -186,13 +209,15 @@ auto newton_walk(const glm::vec3& p, std::optional<Point> cur, At at, Converged 
         const float len = glm::length(to);
         std::optional<Point> next = len > 0.f ? at(to / len, *cur) : std::nullopt;
         if (next && next->error < cur->error) {
+            complete(*next);
             cur = next;
+            asked = false;
             step = std::min(1.f, 2.f * step);
         } else if ((step *= 0.5f) < kMinStep) {
             break;
         }
     }
-    if (cur) return converged(*cur);
+    if (cur && !asked) return converged(*cur);
     return std::nullopt;
 }
 
@@ -209,9 +234,16 @@ std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm:
                                                   const glm::vec3& target, PathCounters& counters) {
     ++counters.manifold_walks;
     const auto seed = seed_direction(scene, p, target);
+    std::optional<WalkPoint> start;
+    if (seed) {
+        WalkPoint probed;
+        probed.hit.triangle = seed->triangle;
+        start = walk_point(scene, p, seed->direction, target, &probed);
+    }
     const auto exit = newton_walk(
-        p, seed ? walk_point(scene, p, *seed, target) : std::nullopt,
+        p, start,
         [&](const glm::vec3& w, const WalkPoint& previous) { return walk_point(scene, p, w, target, &previous); },
+        [&](WalkPoint& point) { walk_derivatives(scene, point); },
         [&](const WalkPoint& point) { return converged(scene, p, point, target); }, false);
     if (!exit) ++counters.manifold_failures;
     return exit;
@@ -234,6 +266,7 @@ struct ChainPoint {
     SurfaceHit first, second;  // y1 (t from p) and y2 (t from y1's spawn point)
     glm::vec3 y{0.f}, y2{0.f};  // y1, the point the walk moves, and y2
     glm::vec3 w{0.f}, d{0.f};
+    glm::vec3 H{0.f}, C{0.f};
     float error = 0.f;
     glm::vec3 tangent[2];
     float c[2];
@@ -289,28 +322,32 @@ void chain_derivatives(const Scene& scene, ChainPoint& cp) {
     }
 }
 
-// The refraction constraint at y2 toward `target` (WalkPoint's) and its
-// derivatives along y1's tangents: δC = (−η δd) × n2 + H × δn2.
+// The refraction constraint at y2 toward `target` (WalkPoint's).
 void chain_constraint(const Scene& scene, const glm::vec3& target, ChainPoint& cp) {
+    cp.H = target - scene.interface.ior * cp.d;
+    cp.C = glm::cross(cp.H, cp.second.shading_normal);
+    cp.error = glm::length(cp.C) / std::max(glm::length(cp.H), 1e-12f);
+}
+
+// Its derivatives along y1's tangents: δC = (−η δd) × n2 + H × δn2.
+void chain_constraint_derivatives(const Scene& scene, ChainPoint& cp) {
+    chain_derivatives(scene, cp);
     const float eta = scene.interface.ior;
     const glm::vec3& n2 = cp.second.shading_normal;
-    const glm::vec3 H = target - eta * cp.d;
-    const glm::vec3 C = glm::cross(H, n2);
-    cp.error = glm::length(C) / std::max(glm::length(H), 1e-12f);
     glm::vec3 b[2];
     orthonormal_basis(n2, b[0], b[1]);
     for (int k = 0; k < 2; ++k) {
-        const glm::vec3 dC = glm::cross(-eta * cp.dd[k], n2) + glm::cross(H, cp.dn2[k]);
+        const glm::vec3 dC = glm::cross(-eta * cp.dd[k], n2) + glm::cross(cp.H, cp.dn2[k]);
         for (int j = 0; j < 2; ++j) cp.a[j][k] = glm::dot(b[j], dC);
     }
-    for (int j = 0; j < 2; ++j) cp.c[j] = glm::dot(b[j], C);
+    for (int j = 0; j < 2; ++j) cp.c[j] = glm::dot(b[j], cp.C);
 }
 
+// The chain along w from p up to its derivatives (newton_walk's `at`).
 std::optional<ChainPoint> chain_point(const Scene& scene, const glm::vec3& p, const glm::vec3& w,
                                       const glm::vec3& target, const ChainPoint* previous = nullptr) {
     ChainPoint cp;
     if (!trace_chain(scene, p, w, cp, previous)) return std::nullopt;
-    chain_derivatives(scene, cp);
     chain_constraint(scene, target, cp);
     return cp;
 }
@@ -351,7 +388,7 @@ std::optional<ReflectedExit> chain_exit(const Scene& scene, const ChainPoint& cp
 std::optional<glm::vec3> reflected_seed(const Scene& scene, const glm::vec3& p, const glm::vec3& target) {
     const auto in = seed_direction(scene, p, target);
     if (!in) return std::nullopt;
-    const glm::vec3 d_in = -*in;
+    const glm::vec3 d_in = -in->direction;
     const auto wall = scene.boundary->intersect(p, d_in, 0.f, kInfinity);
     if (!wall) return std::nullopt;
     const glm::vec3& n = wall->geometric_normal;
@@ -396,6 +433,7 @@ std::optional<ReflectedExit> solve_reflected_exit(const Scene& scene, const glm:
     const auto exit = newton_walk(
         p, seed ? chain_point(scene, p, *seed, target) : std::nullopt,
         [&](const glm::vec3& w, const ChainPoint& previous) { return chain_point(scene, p, w, target, &previous); },
+        [&](ChainPoint& point) { chain_constraint_derivatives(scene, point); },
         [&](const ChainPoint& point) { return chain_converged(scene, p, point, target); }, true);
     if (!exit) ++counters.manifold_failures;
     return exit;

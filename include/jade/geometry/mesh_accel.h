@@ -108,6 +108,18 @@ private:
         glm::vec3 normal[3];
     };
     std::vector<TriangleShading> shading_;
+    // What differential() needs of its triangle beyond that, in a second
+    // record: two unit tangents of its plane (along p1 − p0, and the face
+    // normal × it) and the unnormalised interpolated normal's derivative
+    // along each (Σ n_i ∇b_i · tangent). The manifold walks ask for it at
+    // every Newton step, and gathering it from the vertex arrays missed the
+    // cache six times a call.
+    struct TriangleFrame {
+        glm::vec3 tangent[2];
+        glm::vec3 dn[2];
+    };
+    static TriangleFrame triangle_frame(const TriangleMesh& mesh, std::size_t t, const glm::vec3& face, bool flat);
+    std::vector<TriangleFrame> frames_;
     std::unique_ptr<Embree> embree_;
     ClearanceGrid clearance_;
     bool convex_ = false;
