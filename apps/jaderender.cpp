@@ -281,8 +281,12 @@ void add_camera_flags(CLI::App& cmd, RenderFlags& f) {
 void add_light_flags(CLI::App& cmd, RenderFlags& f) {
     jade::RenderJob& j = f.job;
     const std::size_t first = cmd.get_options().size();
+    const glm::vec3 toward = jade::RenderJob{}.light_direction;
+    char toward_text[64];
+    std::snprintf(toward_text, sizeof toward_text, "%g,%g,%g", toward.x, toward.y, toward.z);
     cmd.add_option("--light-dir", f.light_dir.text,
-                   "Direction toward the directional light (default 0.35,0.8,0.5: upper front right)");
+                   std::string("Direction toward the directional light (default ") + toward_text +
+                       ": upper front right, near the default camera's view)");
     cmd.add_option("--light-irradiance", j.light_irradiance,
                    "Its irradiance on a surface facing it (0 = off)")
         ->capture_default_str();
@@ -334,7 +338,8 @@ void add_rendering_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_
                    "estimated: '1' = one refraction out, '2' = also one internal reflection before it "
                    "(same image; more work per sample, less noise from light that leaves after a bounce "
                    "off the inside), 'auto' = '2' for a delta light (which nothing else reaches along "
-                   "that chain); for a disc light the light guide's second chain, or without the guide "
+                   "that chain, estimated at a small share of the vertices, each estimate weighed up: "
+                   "the same image at a fraction of the cost); for a disc light the light guide's second chain, or without the guide "
                    "'2' under 10 degrees in radius unless --light-nee is 'cone'; '1' = neither")
         ->capture_default_str();
     cmd.add_option("--env-share", j.settings.integrator.environment_share,

@@ -29,6 +29,10 @@ The scene follows docs/blender.md, which gives the reasons:
 - The directional light is a Sun of angle 2 x radius and strength
   E x 2 / (1 + cos radius): Cycles' sun of strength S delivers
   S (1 + cos radius) / 2 to a surface facing it, jaderender's disc delivers E.
+  A delta light (radius 0, jaderender's default) behind a refracting boundary
+  becomes a sun of radius DELTA_SUN_DEGREES: Cycles reaches the inside of
+  glass only by paths that leave it and meet the sun, which never meet a
+  delta sun (jaderender solves for the refraction instead).
 - Film: box filter one pixel wide, Standard view transform, exposure
   log2(jaderender's exposure) stops, no clamping, no denoising, all bounces.
 
@@ -46,6 +50,11 @@ from mathutils import Matrix, Vector
 
 class JobError(Exception):
     """A problem with the job or its files: one line, exit 2."""
+
+
+# The radius, in degrees, of the sun that stands in for a delta light behind
+# a refracting boundary (docs/blender.md, "What the script builds").
+DELTA_SUN_DEGREES = 10.0
 
 
 # ---------------------------------------------------------------------------
@@ -373,7 +382,7 @@ def add_camera(camera_job, width, height):
     scene.render.resolution_percentage = 100
 
 
-def add_sun(lights):
+def add_sun(lights, boundary):
     # A glTF light file is read by jaderender, which writes what it found
     # into the jobs it writes (report.json's job: lights.file_resolved).
     if lights.get("file") and not lights.get("file_resolved"):
@@ -382,13 +391,22 @@ def add_sun(lights):
     irradiance = float(lights.get("irradiance", 3.0))
     if irradiance <= 0.0:
         return
-    radius = math.radians(float(lights.get("radius_degrees", 20.0)))
+    degrees = float(lights.get("radius_degrees", 0.0))
+    stand_in = degrees <= 0.0 and boundary != "none"
+    if stand_in:
+        degrees = DELTA_SUN_DEGREES
+        print("jaderender_blender: the job's light is a delta light, which Cycles cannot reach through the "
+              "refracting boundary; it becomes a sun of %g degrees in radius (same irradiance) that glossy "
+              "rays do not see, as a delta light has no highlight" % degrees)
+    radius = math.radians(degrees)
     data = bpy.data.lights.new("jaderender sun", "SUN")
     data.angle = 2.0 * radius
     data.energy = irradiance * 2.0 / (1.0 + math.cos(radius))
-    toward = y_up_to_z_up(lights.get("direction", [0.35, 0.8, 0.5])).normalized()
+    toward = y_up_to_z_up(lights.get("direction", [0.35, 0.45, 0.82])).normalized()
     obj = bpy.data.objects.new("jaderender sun", data)
     obj.rotation_euler = toward.to_track_quat("Z", "Y").to_euler()  # a sun shines along its -z
+    if stand_in:
+        obj.visible_glossy = False
     bpy.context.scene.collection.objects.link(obj)
 
 
@@ -518,7 +536,7 @@ def build_scene(opts):
     width = opts["width"] or int(camera.get("width", 512))
     height = opts["height"] or int(camera.get("height", 512))
     add_camera(camera, width, height)
-    add_sun(job.get("lights", {}))
+    add_sun(job.get("lights", {}), scene_job.get("boundary", "split"))
     add_world(job.get("lights", {}), base)
     settings = job.get("settings", {})
     set_film(job, opts["samples"] or int(settings.get("spp", 256)),

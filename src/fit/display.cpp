@@ -72,7 +72,8 @@ std::array<double, 3> extrapolated_brightness(const SplitFilms& render, float ex
     const DisplayStatistics first = display_statistics(render.first, exposure);
     const DisplayStatistics second = display_statistics(render.second, exposure);
     std::array<double, 3> a{};
-    for (int c = 0; c < 3; ++c) a[c] = 2.0 * whole.a[c] - 0.5 * (first.a[c] + second.a[c]);
+    for (int c = 0; c < 3; ++c)
+        a[c] = 2.0 * whole.histogram.mean(c) - 0.5 * (first.histogram.mean(c) + second.histogram.mean(c));
     return a;
 }
 

@@ -681,8 +681,11 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
           "[cli][fit][job]") {
     TempDir dir;
     const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
-    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall +
-                                  " --fit bisect --fit-max-renders 3 --out " + dir.file("o"));
+    // A disc light, which the light guide serves (a delta light has none),
+    // so that the job's light_guide key below changes the image.
+    const std::string disc = " --light-radius 20 ";
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + disc +
+                                  "--fit bisect --fit-max-renders 3 --out " + dir.file("o"));
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     auto same_pixels = [](const std::string& a, const std::string& b) {
@@ -701,13 +704,13 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     // Rendering the volume by itself uses the fitted exposure for the PNG: the
     // pipeline's render.png, bit for bit (same framing, samples and seed).
     const Result plain = run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kCow +
-                                      kSmallRender + " --out " + dir.file("plain.exr"));
+                                      kSmallRender + disc + "--out " + dir.file("plain.exr"));
     INFO(plain.out << plain.err);
     REQUIRE(plain.code == 0);
     CHECK(same_pixels(dir.file("o/render.png"), dir.file("plain.png")));
     // --exposure overrides it.
-    REQUIRE(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kCow + kSmallRender +
-                         " --exposure 1 --out " + dir.file("dim.exr")).code == 0);
+    REQUIRE(run(dir, "render --volume " + dir.file("o/volume.vdb") + " --mesh " + kCow + kSmallRender + disc +
+                         "--exposure 1 --out " + dir.file("dim.exr")).code == 0);
     CHECK_FALSE(same_pixels(dir.file("o/render.png"), dir.file("dim.png")));
     // A job file that is not one: exit 2, one line naming it.
     std::ofstream(dir.file("bad.json")) << "{\"nothing\": 1}";
@@ -726,7 +729,7 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK(chain.code == 2);
     CHECK_THAT(chain.err, Catch::Contains("settings.light_chain"));
     // And --light-guide: a job beside report.json (its paths are relative to
-    // it) that turns it off renders another image (the pipeline's light is a
+    // it) that turns it off renders another image (this pipeline's light is a
     // disc behind a dielectric), as the flag does; a text is refused.
     const std::string guide_key = "\"light_guide\": true";
     text = report.str();

@@ -1016,11 +1016,12 @@ TEST_CASE("a delta light behind one internal reflection: the two-vertex chain ma
     // one chord of 2 cos θ_c = 1.56: at σ_t = 1.5 it is a few per cent of
     // the image (weight 0.5 times e^(−2.3)), and light after two
     // reflections (0.25 e^(−4.7)) under 0.3 %. The delta light with the
-    // two-vertex chain (--light-chain auto) must agree with a 1° disc, which
-    // phase-sampled paths find along any chain. (Measured: whole-image z
-    // −0.6; the delta light with one chain lies at z −3.3 to −3.7 from the
-    // disc. The single-scattering slab above resolves the reflected light
-    // sharply: without it z reached 40.) The disc is estimated by the same
+    // two-vertex chain (--light-chain auto, which takes it at a share of the
+    // vertices) must agree with a 1° disc, which phase-sampled paths find
+    // along any chain. (Measured: whole-image z −0.2, −0.6, −0.9; the delta
+    // light with one chain lies at z −6.2, −9.9, −12.6 from the disc. The
+    // single-scattering slab above resolves the reflected light sharply:
+    // without it z reached 40.) The disc is estimated by the same
     // walks, without the light guide: the guide also finds light the walks
     // miss (here about 4 % of the image: 10 seeds of 1024 spp gave a red
     // mean of 0.01988 ± 0.00009 with it and 0.01912 ± 0.00004 without, and

@@ -40,10 +40,14 @@ struct RenderJob {
     float fov_degrees = 40.f;                  // horizontal
     int width = 512, height = 512;
 
-    // Light
-    glm::vec3 light_direction{0.35f, 0.8f, 0.5f};  // toward the light: upper front right
+    // Light: by default a delta light (the paper's, §5.3) from the upper
+    // front right, 27° above the horizon and 23° to the right of the default
+    // camera's view, so that the stone the camera sees is lit from the front
+    // as a photographed slab is, with little of it in shade and no highlight
+    // of the light itself (README, "Defaults").
+    glm::vec3 light_direction{0.35f, 0.45f, 0.82f};  // toward the light
     float light_irradiance = 3.f;
-    float light_radius_degrees = 20.f;
+    float light_radius_degrees = 0.f;
     // A .gltf/.glb whose first directional light (KHR_lights_punctual) sets
     // the direction and irradiance instead of the two above.
     std::string light_file;

@@ -46,12 +46,16 @@ struct DisplayStatistics {
 DisplayStatistics display_statistics(const Film& film, float exposure);
 
 // A(κ) of a render given in two halves, extrapolated to infinitely many
-// samples. display_statistics takes the delta method's share of the noise
-// bias out of A, not all of it: the clamp at white has no second derivative,
-// and few samples underestimate a pixel's variance (the rare bright paths).
-// What is left falls about as 1/spp (the demo at 512²: A at 16 spp 0.5 to
-// 2.8 levels below A at 64), so Richardson's extrapolation from the whole
-// (n samples) and the halves (n/2) removes most of it: A∞ ≈ 2·A(n) − A(n/2).
+// samples. The noise's bias of the mean level falls about as 1/spp (the
+// demo's red at 512²: 8.8, 4.2, 2.0 and 0.9 levels low at 8, 16, 32 and 64
+// spp), so Richardson's extrapolation from the whole (n samples) and the
+// halves (n/2) removes most of it: A∞ ≈ 2·A(n) − A(n/2), on the raw mean
+// levels. Not on display_statistics' A: the delta method's correction there
+// rests on each film's own estimate of its pixels' variance, which the halves
+// (two replicates each) and the whole (four) make differently, so the
+// correction does not fall as 1/spp and the extrapolation overshot (the
+// demo under the delta light, 16 spp: red 1.3–1.5 levels high, on the raw
+// means 0.35–0.5; docs/design.md, "The fit").
 std::array<double, 3> extrapolated_brightness(const SplitFilms& render, float exposure);
 
 // d(display level)/d(linear value) of the sRGB curve at `linear` (0 at and

@@ -17,7 +17,10 @@
 // Lights: the environment is met by rays leaving the scene, the directional
 // light by rays leaving within its disc; both are also estimated at every
 // scattering vertex by the scene's light estimators (render/light_estimator.h),
-// weighed against those hits by MIS with pbrt-v4's r_u / r_l bookkeeping.
+// weighed against those hits by MIS with pbrt-v4's r_u / r_l bookkeeping. A
+// delta light behind a dielectric, which only the estimators reach, is
+// estimated at every one of a path's first scatterings and at a share of
+// the later ones, each of those weighed by the share's inverse.
 // Where a ray from outside would reflect straight out of the scene, the
 // reflection is counted at once and the refraction kept by roulette (enter()). What a camera ray
 // that leaves without interacting sees (background, environment or nothing)
@@ -72,7 +75,9 @@ LightThroughBoundary parse_light_through_boundary(const std::string& name);
 // The specular chains through the boundary along which the light
 // estimators reach a light (render/light_estimators/manifold.h): one
 // refraction (One), or also one internal reflection before it (Two). Auto
-// takes Two for a delta light, which nothing else reaches along that chain;
+// takes Two for a delta light, which nothing else reaches along that chain
+// (a delta light's second chain at a share of the vertices only,
+// render/light_estimator.cpp);
 // for a disc light with the light guide, the guide's own second chain
 // (which beat the walk's at 5° on the demo); without it, Two for a disc
 // small enough for the walk (under 10°, unless the cone is asked for), and
@@ -152,7 +157,8 @@ private:
     Flight fly_drawn(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     std::optional<Flight> draw_flight(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
-    void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p) const;
+    void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p,
+                        float delta_weight = 1.f) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
     std::optional<BoundarySample> enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
                                         const glm::vec3& n, float u) const;
@@ -169,6 +175,9 @@ private:
     LightEstimators estimators_;
     SphereExitTables sphere_exits_;
     std::array<bool, 3> draw_first_{false, false, false};  // per hero channel: fly_drawn
+    // A delta light behind a dielectric: estimated at a share of the later
+    // vertices (integrator.cpp, kDeltaLaterShare).
+    bool thin_delta_light_ = false;
 };
 
 }  // namespace jade
