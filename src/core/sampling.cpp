@@ -51,4 +51,9 @@ glm::vec3 UniformCone::sample(float u1, float u2, float& pdf) const {
     return uniform_cone(axis, cos_max, u1, u2);
 }
 
+bool systematic_selected(float offset, int k, float q) {
+    const double x = double(offset) + double(k) * double(q);
+    return x - std::floor(x) < double(q);
+}
+
 }  // namespace jade

@@ -60,3 +60,30 @@ TEST_CASE("uniform_sphere is uniform in solid angle (chi-square)", "[sampling]")
     const double stat_polar = jade_test::chi2_statistic(polar, expected, dof_polar);
     CHECK(stat_polar > jade_test::chi2_critical_1e4(dof_polar));
 }
+
+TEST_CASE("systematic selection: each event with probability q, a sequence's count fixed to within one",
+          "[sampling]") {
+    // Over n offsets stratified in [0, 1), frac(offset + k·q) is the same
+    // stratified grid rotated, so event k is selected at ⌊n·q⌋ or ⌈n·q⌉ of
+    // them, for every k: its probability over a uniform offset is q. And for
+    // any offset, m consecutive events hold ⌊m·q⌋ or ⌈m·q⌉ selections.
+    for (const float q : {0.4f, 0.02f, 0.3f, 0.7f, 1.f}) {
+        constexpr int kOffsets = 10000;
+        for (const int k : {0, 1, 2, 7, 100, 12345, 999999}) {
+            int selected = 0;
+            for (int i = 0; i < kOffsets; ++i) selected += systematic_selected((i + 0.5f) / kOffsets, k, q);
+            INFO("q " << q << ", event " << k);
+            CHECK(std::abs(selected - double(q) * kOffsets) <= 1.0);
+        }
+        SplitMix64 rng(7);
+        for (int trial = 0; trial < 200; ++trial) {
+            const float offset = float(rng.uniform());
+            const int first = int(rng.below(1000)), m = 1 + int(rng.below(60));
+            int selected = 0;
+            for (int k = first; k < first + m; ++k) selected += systematic_selected(offset, k, q);
+            INFO("q " << q << ", events " << first << " to " << first + m);
+            CHECK(selected >= int(std::floor(double(m) * q - 1e-9)));
+            CHECK(selected <= int(std::ceil(double(m) * q + 1e-9)));
+        }
+    }
+}

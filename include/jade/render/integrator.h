@@ -157,6 +157,7 @@ private:
     Flight fly_drawn(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     std::optional<Flight> draw_flight(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
+    float delta_light_share(PathState& s) const;
     void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p,
                         float delta_weight = 1.f) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
@@ -176,7 +177,7 @@ private:
     SphereExitTables sphere_exits_;
     std::array<bool, 3> draw_first_{false, false, false};  // per hero channel: fly_drawn
     // A delta light behind a dielectric: estimated at a share of the later
-    // vertices (integrator.cpp, kDeltaLaterShare).
+    // vertices, chosen systematically (delta_light_share).
     bool thin_delta_light_ = false;
 };
 
