@@ -458,6 +458,10 @@ int run_render(RenderFlags& f) {
                     double(rr.counters.manifold_walks) / 1e6,
                     100.0 * double(rr.counters.manifold_failures) / double(rr.counters.manifold_walks),
                     j.light_radius_degrees > 0.f ? "" : "; a delta light's missed paths stay dark");
+    if (rr.counters.manifold_probes_ended > 0)
+        std::printf("  %.3g M more walks ended by roulette after their probe found the surface far "
+                    "(their light weighed up in the walks that went on)\n",
+                    double(rr.counters.manifold_probes_ended) / 1e6);
     if (rr.counters.capped_paths > 0)
         std::printf("  BIAS: %llu of %llu paths were cut at --max-depth %d\n",
                     (unsigned long long)rr.counters.capped_paths,

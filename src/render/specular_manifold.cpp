@@ -87,22 +87,6 @@ std::optional<RefractedExit> exit_at(const Scene& scene, const glm::vec3& w, con
     return e;
 }
 
-// The seed: the target direction, followed backwards from where it meets
-// the surface seen from p, refracted inward; exact on a flat surface. Also
-// the triangle met there, where the seed's own ray most often lands too.
-struct Seed {
-    glm::vec3 direction;
-    std::uint32_t triangle;
-};
-std::optional<Seed> seed_direction(const Scene& scene, const glm::vec3& p, const glm::vec3& target) {
-    const auto probe = scene.boundary->intersect(p, target, 0.f, kInfinity);
-    if (!probe || !(glm::dot(target, probe->geometric_normal) > 0.f)) return std::nullopt;
-    const BoundaryTransmission in = boundary_transmission(
-        scene.interface, -target, interface_normal(*probe, -target, true), true);
-    if (in.direction == glm::vec3(0.f)) return std::nullopt;
-    return Seed{-in.direction, probe->triangle};
-}
-
 // A point of the walk: the surface hit from p along w, and the manifold
 // constraint there (Hanika et al. 2015): with the generalised half vector
 // H = η·ω_i + ω_o (ω_i = −w toward p, ω_o the target, η = ior), a
@@ -230,10 +214,25 @@ std::optional<RefractedExit> refracted_exit(const Scene& scene, const glm::vec3&
     return exit_at(scene, w, *hit);
 }
 
+std::optional<RefractionSeed> refraction_seed(const Scene& scene, const glm::vec3& p, const glm::vec3& target) {
+    const auto probe = scene.boundary->intersect(p, target, 0.f, kInfinity);
+    if (!probe || !(glm::dot(target, probe->geometric_normal) > 0.f)) return std::nullopt;
+    const BoundaryTransmission in = boundary_transmission(
+        scene.interface, -target, interface_normal(*probe, -target, true), true);
+    if (in.direction == glm::vec3(0.f)) return std::nullopt;
+    return RefractionSeed{-in.direction, probe->triangle, probe->t};
+}
+
 std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm::vec3& p,
                                                   const glm::vec3& target, PathCounters& counters) {
+    return solve_refracted_exit(scene, p, target, refraction_seed(scene, p, target), counters);
+}
+
+std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm::vec3& p,
+                                                  const glm::vec3& target,
+                                                  const std::optional<RefractionSeed>& seed,
+                                                  PathCounters& counters) {
     ++counters.manifold_walks;
-    const auto seed = seed_direction(scene, p, target);
     std::optional<WalkPoint> start;
     if (seed) {
         WalkPoint probed;
@@ -386,7 +385,7 @@ std::optional<ReflectedExit> chain_exit(const Scene& scene, const ChainPoint& cp
 // the mirror image of p and s where that line meets the plane. Exact for
 // flat surfaces.
 std::optional<glm::vec3> reflected_seed(const Scene& scene, const glm::vec3& p, const glm::vec3& target) {
-    const auto in = seed_direction(scene, p, target);
+    const auto in = refraction_seed(scene, p, target);
     if (!in) return std::nullopt;
     const glm::vec3 d_in = -in->direction;
     const auto wall = scene.boundary->intersect(p, d_in, 0.f, kInfinity);

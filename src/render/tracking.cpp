@@ -15,6 +15,7 @@ PathCounters& PathCounters::operator+=(const PathCounters& o) {
     shadow_rays += o.shadow_rays;
     manifold_walks += o.manifold_walks;
     manifold_failures += o.manifold_failures;
+    manifold_probes_ended += o.manifold_probes_ended;
     capped_paths += o.capped_paths;
     sphere_walks += o.sphere_walks;
     return *this;

@@ -4,6 +4,9 @@
 // and the Jacobian against finite differences of traced exits.
 
 #include "jade/render/specular_manifold.h"
+#include "jade/render/light.h"
+#include "jade/render/light_estimators/manifold.h"
+#include "jade/render/media/homogeneous.h"
 #include "jade/core/random.h"
 #include "jade/core/math.h"
 #include "jade/core/sampling.h"
@@ -371,4 +374,57 @@ TEST_CASE("the chain solver inverts traced chains", "[manifold]") {
         CHECK(solved * 100 >= traced * k.at_least_percent);
         CHECK(counters.manifold_walks == std::uint64_t(traced));
     }
+}
+
+TEST_CASE("a delta light's walk ended after its probe by roulette keeps the estimate's mean", "[manifold]") {
+    // From a vertex deep in a sphere, the probe toward the light finds the
+    // surface 1.6 away; with σ_t at least 1.2 the light that gets through is
+    // at most e^(−1.92) = 0.147, below kProbeFullTransmittance, so the walk
+    // goes on with probability 0.147 / 0.25 = 0.587 (exact sphere) and its
+    // light is weighed by the inverse. The mean over many estimates is the
+    // light of the walk itself (solve_refracted_exit: E · transmission /
+    // |dω/dw|), to within the binomial count's standard error.
+    const TriangleMesh mesh = icosphere(6, 1.f);
+    const MeshAccel accel(mesh);
+    const HomogeneousMedium medium(Spectrum(1.0f, 2.f, 3.f), Spectrum(0.2f, 0.3f, 0.4f));
+    Scene s = jade_test::basic_scene(accel, &medium, BoundaryMode::Split, Spectrum(0.f));
+    const glm::vec3 to_light(0.f, 0.f, 1.f);
+    const DirectionalLight light(to_light, 3.f, 0.f);
+    const ManifoldEstimator estimator(s, light, SpecularChain::Refraction);
+    const glm::vec3 p(0.05f, -0.03f, -0.6f);
+
+    const double expected_survival = std::exp(-1.2 * 1.6) / double(kProbeFullTransmittance);
+    const auto seed = refraction_seed(s, p, to_light);
+    REQUIRE(seed);
+    CHECK(seed->probe_distance == Approx(std::sqrt(1.0 - 0.05 * 0.05 - 0.03 * 0.03) + 0.6).epsilon(1e-3));
+    const float survival = probe_survival(s, seed->probe_distance);
+    CHECK(survival == Approx(expected_survival).epsilon(0.01));
+
+    PathCounters counters;
+    const auto exit = solve_refracted_exit(s, p, to_light, counters);
+    REQUIRE(exit);
+    const double light_of_walk = 3.0 * double(exit->transmission) / double(exit->jacobian);
+
+    SampleStream rng(11, 0, 0);
+    const int n = 20000;
+    double sum = 0.0;
+    int went_on = 0;
+    for (int i = 0; i < n; ++i) {
+        const auto ls = estimator.sample(p, 0.5f, 0.5f, rng, counters);
+        if (!ls || !(ls->radiance.x > 0.f)) continue;
+        ++went_on;
+        CHECK(double(ls->radiance.x) == Approx(light_of_walk / survival).epsilon(1e-5));
+        sum += double(ls->radiance.x);
+    }
+    const double q = survival;
+    INFO(went_on << " of " << n << " walks went on past the probe");
+    CHECK(std::abs(sum / n - light_of_walk) < 5.0 * light_of_walk * std::sqrt((1.0 - q) / (q * n)));
+    CHECK(counters.manifold_probes_ended + std::uint64_t(went_on) == std::uint64_t(n));
+    // The same vertex's walk under a disc light is never ended: its density
+    // would have to carry the survival into MIS.
+    const DirectionalLight disc(to_light, 3.f, 1.f);
+    const ManifoldEstimator disc_estimator(s, disc, SpecularChain::Refraction);
+    PathCounters disc_counters;
+    for (int i = 0; i < 100; ++i) (void)disc_estimator.sample(p, rng.uniform(), rng.uniform(), rng, disc_counters);
+    CHECK(disc_counters.manifold_probes_ended == 0);
 }

@@ -40,14 +40,30 @@ struct RefractedExit {
 std::optional<RefractedExit> refracted_exit(const Scene& scene, const glm::vec3& p,
                                             const glm::vec3& w);
 
+// The walk's seed: the target direction followed from p to where it meets
+// the surface (the probe, one ray query), refracted inward there; exact on a
+// flat surface. Also the triangle met, where the seed's own ray most often
+// lands too, and how far the probe went. None when the probe meets no
+// surface facing the target.
+struct RefractionSeed {
+    glm::vec3 direction{0.f};
+    std::uint32_t triangle = 0;
+    float probe_distance = 0.f;
+};
+std::optional<RefractionSeed> refraction_seed(const Scene& scene, const glm::vec3& p, const glm::vec3& target);
+
 // The interior direction from p that leaves along exterior direction
-// `target` (unit): Newton's method from the ray that the target direction,
-// refracted inward where it meets the surface from p, would take. The seed
-// depends only on (p, target), so the result is a function of them (MIS
-// needs to know which paths the solver finds). None when it does not
-// converge to within kManifoldTolerance.
+// `target` (unit): Newton's method from the seed above. The seed depends
+// only on (p, target), so the result is a function of them (MIS needs to
+// know which paths the solver finds). None when it does not converge to
+// within kManifoldTolerance. The second form starts from a seed already
+// made (refraction_seed(scene, p, target)).
 std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm::vec3& p,
                                                   const glm::vec3& target, PathCounters& counters);
+std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm::vec3& p,
+                                                  const glm::vec3& target,
+                                                  const std::optional<RefractionSeed>& seed,
+                                                  PathCounters& counters);
 
 // |ω_out − target| at which the solver stops (a chord length, ≈ radians).
 constexpr float kManifoldTolerance = 2e-5f;

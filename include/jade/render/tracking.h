@@ -28,6 +28,7 @@ struct PathCounters {
     std::uint64_t shadow_rays = 0;
     std::uint64_t manifold_walks = 0;     // Newton solves for a refraction toward the light
     std::uint64_t manifold_failures = 0;  // of which did not converge (light not found)
+    std::uint64_t manifold_probes_ended = 0;  // delta-light walks ended after their probe (probe_survival)
     std::uint64_t capped_paths = 0;     // stopped by max_depth (a bias)
     std::uint64_t sphere_walks = 0;     // runs of collisions taken at once (their collisions are real_collisions)
     std::uint64_t vertices() const { return real_collisions + surface_events; }

@@ -5,6 +5,9 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace jade {
 
 namespace {
@@ -18,15 +21,17 @@ ManifoldEstimator::ManifoldEstimator(const Scene& scene, const DistantLight& lig
     if (chain == SpecularChain::None) throw Error("internal: a manifold estimator needs a specular chain");
 }
 
+std::optional<ManifoldEstimator::Found> ManifoldEstimator::refracted(const glm::vec3& p,
+                                                                     const std::optional<RefractedExit>& e) {
+    if (!e) return std::nullopt;
+    const glm::vec3 y = p + e->hit.t * e->direction;
+    return Found{e->direction, y, y, e->exterior, e->hit.geometric_normal, e->jacobian, e->transmission,
+                 e->hit.t, 0.f};
+}
+
 std::optional<ManifoldEstimator::Found> ManifoldEstimator::solve(const glm::vec3& p, const glm::vec3& target,
                                                                  PathCounters& counters) const {
-    if (chain_ == SpecularChain::Refraction) {
-        const auto e = solve_refracted_exit(scene_, p, target, counters);
-        if (!e) return std::nullopt;
-        const glm::vec3 y = p + e->hit.t * e->direction;
-        return Found{e->direction, y, y, e->exterior, e->hit.geometric_normal, e->jacobian, e->transmission,
-                     e->hit.t, 0.f};
-    }
+    if (chain_ == SpecularChain::Refraction) return refracted(p, solve_refracted_exit(scene_, p, target, counters));
     const auto e = solve_reflected_exit(scene_, p, target, counters);
     if (!e) return std::nullopt;
     return Found{e->direction, e->reflection_point, e->exit_point, e->exterior, e->exit.geometric_normal,
@@ -42,19 +47,40 @@ Spectrum ManifoldEstimator::Found::transmittance(const Scene& scene, const glm::
     return t;
 }
 
+float probe_survival(const Scene& scene, float probe_distance) {
+    if (!scene.medium) return 1.f;
+    const float transmittance = std::exp(-min_component(scene.medium->minorant()) * probe_distance);
+    return std::clamp(transmittance / kProbeFullTransmittance, kProbeMinSurvival, 1.f);
+}
+
 std::optional<LightSample> ManifoldEstimator::sample(const glm::vec3& p, float u1, float u2,
                                                      SampleStream& rng,
                                                      PathCounters& counters) const {
     const DistantSample ds = light_.sample(u1, u2);
     if (!light_.is_delta() && !(ds.pdf > 0.f)) return std::nullopt;
-    const auto found = solve(p, ds.direction, counters);
+    // A delta light has no MIS partner, so its one-refraction walk may be
+    // ended by roulette after its probe (probe_survival); a disc's density
+    // would have to carry the survival into pdf() as well.
+    float survival = 1.f;
+    std::optional<Found> found;
+    if (light_.is_delta() && chain_ == SpecularChain::Refraction) {
+        const auto seed = refraction_seed(scene_, p, ds.direction);
+        if (seed) survival = probe_survival(scene_, seed->probe_distance);
+        if (survival < 1.f && !(rng.uniform() < survival)) {
+            ++counters.manifold_probes_ended;
+            return std::nullopt;
+        }
+        found = refracted(p, solve_refracted_exit(scene_, p, ds.direction, seed, counters));
+    } else {
+        found = solve(p, ds.direction, counters);
+    }
     if (!found) return std::nullopt;
     ++counters.shadow_rays;
     LightSample ls;
     ls.direction = found->direction;
     if (scene_.blocked(found->exit, found->exit_normal, found->exterior)) return ls;  // the object itself is in the way
     if (light_.is_delta()) {  // the irradiance, spread by the chain's Jacobian
-        ls.radiance = ds.radiance * (found->weight / found->jacobian);
+        ls.radiance = ds.radiance * (found->weight / (found->jacobian * survival));
     } else {
         ls.pdf = ds.pdf * found->jacobian;
         ls.radiance = ds.radiance * found->weight;
