@@ -433,12 +433,13 @@ int run_render(RenderFlags& f) {
         const jade::PixelBounds& b = piece->pixels;
         samples = double(b.x1 - b.x0) * (b.y1 - b.y0) * last.spp;
         std::printf("render piece: samples %d:%d of %d, pixels %d:%d,%d:%d of %dx%d in %.2f s; estimated relative "
-                    "error of the piece alone %.4f",
+                    "error of the piece alone %s",
                     piece->samples.first, piece->samples.last, j.settings.spp, b.x0, b.x1, b.y0, b.y1, j.width,
-                    j.height, rr.seconds, last.estimated_error);
+                    j.height, rr.seconds, jade::format_relative_error(last.estimated_error).c_str());
     } else {
-        std::printf("render: %dx%d, %d spp in %.2f s (stopped by %s); estimated relative error %.4f", j.width,
-                    j.height, last.spp, rr.seconds, rr.stopped_by.c_str(), last.estimated_error);
+        std::printf("render: %dx%d, %d spp in %.2f s (stopped by %s); estimated relative error %s", j.width,
+                    j.height, last.spp, rr.seconds, rr.stopped_by.c_str(),
+                    jade::format_relative_error(last.estimated_error).c_str());
     }
     if (last.rmse >= 0) std::printf(", RMSE %.5f, relMSE %.3g vs reference", last.rmse, last.rel_mse);
     std::printf("\n  medium: %s (%s)\n", r.medium_description.c_str(),
@@ -497,11 +498,11 @@ int run_merge(const MergeFlags& m) {
     }
     if (pieces.empty()) throw jade::Error("merge: give the piece files, or --job and --split");
     const jade::MergeResult r = jade::merge_render_pieces(pieces, m.out, m.png);
-    std::printf("merge: %d pieces of %dx%d, %d spp (seed %llu): estimated relative error %.4f; reading %.2f s, "
+    std::printf("merge: %d pieces of %dx%d, %d spp (seed %llu): estimated relative error %s; reading %.2f s, "
                 "merging %.3f s, total %.2f s; the pieces rendered for %.1f s in all\n",
                 r.pieces, r.job.width, r.job.height, r.job.settings.spp, (unsigned long long)r.job.settings.seed,
-                r.film.estimated_relative_error(), r.read_seconds, r.merge_seconds, total.seconds(),
-                r.piece_seconds);
+                jade::format_relative_error(r.film.estimated_relative_error()).c_str(), r.read_seconds,
+                r.merge_seconds, total.seconds(), r.piece_seconds);
     for (const auto& file : r.written) std::printf("  wrote %s\n", file.c_str());
     return 0;
 }

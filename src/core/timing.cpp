@@ -1,5 +1,6 @@
 #include "jade/core/timing.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sys/resource.h>
 
@@ -14,6 +15,13 @@ std::size_t peak_rss_bytes() {
 std::string format_megabytes(double bytes) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.1f MB", bytes / 1e6);
+    return buf;
+}
+
+std::string format_relative_error(double error) {
+    if (!std::isfinite(error)) return "none (below 2 samples per pixel, or no pixel shows the object)";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4f", error);
     return buf;
 }
 

@@ -198,6 +198,21 @@ TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV"
     CHECK(plot.height == 420);
 }
 
+TEST_CASE("render: a camera that sees no part of the object says it has no error estimate", "[cli][render]") {
+    TempDir dir;
+    const Result r = run(dir, "render --mesh " + kBlob +
+                                  " --sigma-s 2,4,6 --sigma-a 0.5 --camera-origin 0,0,4 --camera-target 0,0,8 "
+                                  "--width 16 --height 12 --spp 4 --env 0.5 --png '' --out " + dir.file("away.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("estimated relative error none (below 2 samples per pixel, or no pixel shows "
+                                      "the object)"));
+    CHECK_THAT(r.out, !Catch::Contains("nan"));
+    const jade::ImageF32 exr = jade::read_image_f32(dir.file("away.exr"));
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 16; ++x) CHECK(exr.at(x, y, 0) == 0.5f);  // the environment, with every sample
+}
+
 TEST_CASE("render: a saved volume on another mesh, against a reference, stopped by time",
           "[cli][render]") {
     TempDir dir;

@@ -25,4 +25,9 @@ std::size_t peak_rss_bytes();
 // "340.6 MB"
 std::string format_megabytes(double bytes);
 
+// An estimated relative error as printed: "0.0617", or what stands for it
+// when the film cannot estimate one (render/film.h: below 2 samples per
+// pixel, or no pixel shows the object).
+std::string format_relative_error(double error);
+
 }  // namespace jade
