@@ -186,7 +186,7 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     write_image_u8(out("convergence.png"), conv.width, conv.height, 3, conv.pixels);
     const RgbImage8 fitp = fit_plot(res.fit.records, res.fit.limits.tolerance);
     write_image_u8(out("fit.png"), fitp.width, fitp.height, 3, fitp.pixels);
-    const DisplayStatistics final_stats = display_statistics(res.final_render.film, exposure);
+    const DisplayStatistics final_stats = display_statistics(res.final_render.film, exposure, LumaHalves::Measure);
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
     res.final_look = compare_appearance(photo_histogram, photo_spectrum(photo), final_stats,
                                         render_pixels_per_side(prep.camera, volume.cube));

@@ -10,7 +10,38 @@
 
 namespace jade {
 
-DisplayStatistics display_statistics(const Film& film, float exposure) {
+namespace {
+
+// A pixel's 8-bit display levels from its linear colour (exposed, and
+// divided by its coverage), clamped at white.
+Rgb8 display_levels(const Spectrum& linear) {
+    Rgb8 level;
+    for (int c = 0; c < 3; ++c) level[c] = display_level(std::clamp(double(linear[c]), 0.0, 1.0));
+    return level;
+}
+
+// The object's luma from replicates 0–1 and from 2–3 (render/film.h), over
+// the pixels `mask` marks; none unless every replicate of every pixel holds
+// a whole turn of the heroes.
+std::array<GrayImage, 2> luma_halves(const Film& film, float exposure, const GrayImage& mask) {
+    if (film.fewest_samples() < Film::kReplicates * Film::kStrata) return {};
+    std::array<GrayImage, 2> halves{mask, mask};
+    for (int y = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x) {
+            const std::size_t i = std::size_t(y) * film.width() + x;
+            if (!mask.mask[i]) continue;
+            const float scale = exposure / film.coverage(x, y);
+            for (int h = 0; h < 2; ++h) {
+                const Rgb8 level = display_levels(film.replicates_mean(x, y, 2 * h, 2) * scale);
+                halves[h].values[i] = float(luma(level[0], level[1], level[2]));
+            }
+        }
+    return halves;
+}
+
+}  // namespace
+
+DisplayStatistics display_statistics(const Film& film, float exposure, LumaHalves halves) {
     DisplayStatistics s;
     std::vector<Rgb8> colours;
     std::array<double, 3> var_sum{}, bias_sum{};
@@ -27,11 +58,10 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
             // holds colour × coverage when the background is left out.
             const Spectrum m = film.mean(x, y) * (exposure / cov);
             const Spectrum v = film.variance_of_mean(x, y);
-            Rgb8 level;
+            const Rgb8 level = display_levels(m);
             std::array<double, 3> level_sigma{};
             for (int c = 0; c < 3; ++c) {
                 const double lin = std::clamp(double(m[c]), 0.0, 1.0);
-                level[c] = display_level(lin);
                 // Delta method: Var[255 · srgb(e · x / cov)] ≈ (255 · srgb'(.) · e / cov)² Var[x],
                 // and the mean of a noisy pixel's level is biased by ½ · 255 · srgb''(.) · (e / cov)² Var[x]
                 // (sRGB is concave: noise lowers A). The bias is removed from A,
@@ -64,6 +94,7 @@ DisplayStatistics display_statistics(const Film& film, float exposure) {
         s.s[c] = s.pixels ? std::sqrt(std::max(0.0, spread * spread - var_sum[c] / double(s.pixels))) : 0.0;
     }
     s.luma_noise_variance = s.pixels ? luma_var_sum / double(s.pixels) : 0.0;
+    if (halves == LumaHalves::Measure) s.luma_halves = luma_halves(film, exposure, s.luma);
     return s;
 }
 

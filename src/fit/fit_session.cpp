@@ -193,7 +193,7 @@ RenderResult FitSession::fitting_render(const std::array<double, 3>& ks, const s
 // A row of fit.csv for a render at ks and contrast.
 FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<double, 3>& contrast,
                               const Film& film) {
-    const DisplayStatistics st = display_statistics(film, outcome_.exposure);
+    const DisplayStatistics st = display_statistics(film, outcome_.exposure, LumaHalves::Measure);
     const Appearance look = compare_appearance(photo_histogram_, photo_spectrum_, st, pixels_per_side_);
     FitRecord rec;
     rec.iteration = int(outcome_.records.size());

@@ -224,6 +224,26 @@ Spectrum Film::mean(int x, int y) const {
     return Spectrum(float(pixel_mean(i, 0)), float(pixel_mean(i, 1)), float(pixel_mean(i, 2)));
 }
 
+Spectrum Film::replicates_mean(int x, int y, int first, int count) const {
+    if (first < 0 || count < 1 || first + count > kReplicates)
+        throw Error("internal: a film's replicate range is out of range");
+    const std::size_t i = index(x, y);
+    Spectrum m(0.f);
+    for (int c = 0; c < 3; ++c) {
+        double sums[kReplicates];
+        std::uint32_t counts[kReplicates];
+        split_sums(i, c, kOtherReplicates, replicate_sum_, replicate_count_, sum_[3 * i + c], count_[i], sums, counts);
+        double sum = 0.0;
+        std::uint32_t n = 0;
+        for (int r = first; r < first + count; ++r) {
+            sum += sums[r];
+            n += counts[r];
+        }
+        m[c] = n > 0 ? float(sum / n) : 0.f;
+    }
+    return m;
+}
+
 // Pixel i's sums and counts in channel c per stratum (stratum 0 is what
 // the others leave), and how many strata hold samples.
 int Film::strata(std::size_t i, int c, double* sums, std::uint32_t* counts) const {

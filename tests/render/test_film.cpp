@@ -204,6 +204,28 @@ TEST_CASE("a film's variance comes from the spread between its replicates once e
     CHECK(h.variance_of_mean(0, 0).x == jade_test::without_replicates(h).variance_of_mean(0, 0).x);
 }
 
+TEST_CASE("a film's replicates give the pixel's mean from disjoint sets of its samples", "[film]") {
+    // Dealt as the renderer deals them (turn t to replicate t mod 4),
+    // replicate r's samples all r + 1: 15 samples, replicate 0 holding 6.
+    Film f(1, 1);
+    for (int s = 0; s < 15; ++s) {
+        const int r = (s / 3) % Film::kReplicates;
+        f.add_sample(0, 0, Spectrum(float(r + 1), float(2 * (r + 1)), 0.f), true, s % 3, r);
+    }
+    CHECK(f.replicates_mean(0, 0, 0, 2).x == Approx((6.0 * 1 + 3.0 * 2) / 9.0));
+    CHECK(f.replicates_mean(0, 0, 0, 2).y == Approx(2.0 * (6.0 * 1 + 3.0 * 2) / 9.0));
+    CHECK(f.replicates_mean(0, 0, 2, 2).x == Approx(3.5));
+    CHECK(f.replicates_mean(0, 0, 3, 1).x == Approx(4.0));
+    // All four: Σx / n.
+    CHECK(f.replicates_mean(0, 0, 0, Film::kReplicates).x == Approx(33.0 / 15.0));
+    // Replicates without samples read 0.
+    Film g(1, 1);
+    g.add_sample(0, 0, Spectrum(1.f), true, 0, 0);
+    CHECK(g.replicates_mean(0, 0, 1, 3).x == 0.f);
+    CHECK_THROWS_AS(f.replicates_mean(0, 0, 3, 2), Error);
+    CHECK_THROWS_AS(f.replicates_mean(0, 0, -1, 1), Error);
+}
+
 // K films of n samples each per pixel, sample s of group k being value(rng).
 template <class Value>
 std::vector<Film> groups_of(int k, int n, int w, int h, Value value) {

@@ -41,9 +41,18 @@ struct DisplayStatistics {
     // three), which bounds the luma's noise from above.
     GrayImage luma;
     double luma_noise_variance = 0.0;
+    // The same luma from two independent halves of the samples (replicates
+    // 0–1 and 2–3, render/film.h; width 0 unless LumaHalves::Measure, and
+    // while a replicate holds less than a turn of the heroes): their
+    // cross-spectrum is the render's structure with no noise to subtract
+    // (volume/texture_spectrum.h).
+    std::array<GrayImage, 2> luma_halves;
     std::size_t pixels = 0;
 };
-DisplayStatistics display_statistics(const Film& film, float exposure);
+// Whether display_statistics also makes the luma's two halves (a few tens of
+// milliseconds at 512²): only the renders whose structure is measured need them.
+enum class LumaHalves { Skip, Measure };
+DisplayStatistics display_statistics(const Film& film, float exposure, LumaHalves halves = LumaHalves::Skip);
 
 // A(κ) of a render given in two halves, extrapolated to infinitely many
 // samples. The noise's bias of the mean level falls about as 1/spp (the

@@ -65,6 +65,12 @@ public:
     // below 2 samples.
     Spectrum mean(int x, int y) const;
     Spectrum variance_of_mean(int x, int y) const;
+    // Σx / n over the samples of replicates first … first + count − 1 of
+    // pixel (x, y) (0 where they hold none). Two disjoint sets of replicates
+    // are independent estimates of the pixel, each hero-balanced up to one
+    // turn (render/pixel_sampler.h): what the images of both share is the
+    // converged image, their noise apart.
+    Spectrum replicates_mean(int x, int y, int first, int count) const;
     // Fraction of the pixel's camera rays that met the object.
     float coverage(int x, int y) const;
 
