@@ -94,7 +94,7 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
               sw = width_at(slice.width, slice.height);
     const int plot_height = 170;
     RgbImage8 img;
-    const int legend_width = 130;
+    const int legend_width = 150;
     img.width = std::max(pw + rw + sw + 2 * kGap, 3 * (256 + kGap) + legend_width);
     img.height = panel + kCaption + plot_height;
     img.pixels.assign(std::size_t(img.width) * img.height * 3, kBackground[0]);
@@ -129,6 +129,19 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
     draw_text(img, lx, ly + kTextSize + 4, "dotted: render", kTextSize, kText);
     draw_text(img, lx, ly + 2 * (kTextSize + 4), "photo|render", kTextSize, kText);
     draw_text(img, lx, ly + 4 * (kTextSize + 4), "ticks: A", kTextSize, kText);
+    // The structure (docs/design.md, "Appearance"): the spectra's distance,
+    // and each image's dominant direction and how strongly it holds.
+    const TextureSpectrum &ps = p.look.photo, &rs = p.look.render;
+    char line[48];
+    if (p.look.structure >= 0.0)
+        std::snprintf(line, sizeof line, "structure %.2f", p.look.structure);
+    else
+        std::snprintf(line, sizeof line, "structure none");
+    draw_text(img, lx, ly + 6 * (kTextSize + 4), line, kTextSize, kText);
+    std::snprintf(line, sizeof line, "angle %.0f|%.0f", ps.orientation, rs.orientation);
+    draw_text(img, lx, ly + 7 * (kTextSize + 4), line, kTextSize, kText);
+    std::snprintf(line, sizeof line, "strength %.2f|%.2f", ps.strength, rs.strength);
+    draw_text(img, lx, ly + 8 * (kTextSize + 4), line, kTextSize, kText);
     return img;
 }
 

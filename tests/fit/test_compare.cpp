@@ -73,4 +73,17 @@ TEST_CASE("compare image: photo, render and slice side by side, figures on the p
     // Each channel's plot has its line of figures above it.
     const Rgb8 bg{40, 40, 40};
     for (int c = 0; c < 3; ++c) CHECK(changed(img, c * (256 + 8), 122, c * (256 + 8) + 256, 160, bg) > 100);
+    // The legend's last lines carry the structure: its distance (or none),
+    // the photo's and the render's directions and strengths.
+    const int lx = 3 * (256 + 8), top = 100 + 22 + 13 + 2 + 6 * (13 + 4) - 13, bottom = top + 3 * (13 + 4) + 4;
+    CHECK(changed(img, lx, top, img.width, bottom, bg) > 100);
+    look.structure = 0.42;
+    look.render.orientation = 90.0;
+    const RgbImage8 other = compare_image({photo, film, 1.f, slice, ph, rh, look, "render", "slice"}, 100);
+    int differ = 0;
+    for (int y = top; y < bottom; ++y)
+        for (int x = lx; x < img.width; ++x) differ += pixel(img, x, y) != pixel(other, x, y);
+    CHECK(differ > 20);
+    // Nothing of it spills below the plots.
+    CHECK(changed(img, lx, bottom, img.width, img.height, bg) == 0);
 }
