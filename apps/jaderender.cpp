@@ -47,6 +47,7 @@ struct VolumeOptions {
     jade::NoiseParams noise;
     std::string structure = "photo";
     std::string match = "joint";
+    std::string extinction = jade::to_string(jade::OpticalParams{}.extinction);
     jade::OpticalParams optics;
     Vec3Flag contrast;  // `volume --contrast`
 };
@@ -94,6 +95,11 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     cmd.add_option("--match", o.match, "Colour matching: 'joint' (real photo colours) or "
                                        "'per-channel' (the paper's)")
         ->capture_default_str();
+    cmd.add_option("--extinction", o.extinction,
+                   "'grey': every voxel and channel takes the extinction d_s and keeps the paper's albedo "
+                   "sigma_s / (sigma_s + sigma_a), so the stone's colour is its absorption; 'paper': "
+                   "sigma_s + sigma_a as the paper's formulas give them (the same at k_s = 0, d_a = 1)")
+        ->capture_default_str();
     cmd.add_option("--ds", o.optics.ds, "Scattering scale d_s")->capture_default_str();
     cmd.add_option("--da", o.optics.da, "Absorption scale d_a")->capture_default_str();
     cmd.add_option("--density-scale", o.optics.density_scale,
@@ -106,6 +112,7 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
 int run_volume(VolumeOptions& o) {
     const jade::Stopwatch total;
     const jade::MatchMode match = jade::parse_match_mode(o.match);
+    o.optics.extinction = jade::parse_extinction(o.extinction);
     if (o.contrast.given()) {
         const glm::vec3 g = o.contrast.value("--contrast");
         o.optics.contrast = {g.x, g.y, g.z};
@@ -627,6 +634,7 @@ int run_pipeline(PipelineFlags& p) {
     o.structure = jade::parse_structure_mode(p.volume.structure);
     o.match = jade::parse_match_mode(p.volume.match);
     o.optics = p.volume.optics;
+    o.optics.extinction = jade::parse_extinction(p.volume.extinction);
     if (p.ks_start.given()) {
         const glm::vec3 k = p.ks_start.value("--ks");
         o.fit.ks_start = std::array<double, 3>{k.x, k.y, k.z};

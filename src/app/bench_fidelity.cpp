@@ -29,13 +29,14 @@ PipelineOptions common_options(const FidelityBenchOptions& b, const std::string&
 }
 
 // The paper's method as §4–5 give it: per-channel histogram matching, d_a =
-// 0.1, the fBm with its fixed frequency and amplitude ratio, and k_s stepped
+// 0.1, §5.1's extinction, the fBm with its fixed frequency and amplitude ratio, and k_s stepped
 // by 0.01 (Algorithm 2) with no contrast, its fitted k_s rendered as it is.
 PipelineOptions paper_options(const FidelityBenchOptions& b) {
     PipelineOptions o = common_options(b, "paper");
     o.structure = StructureMode::Fbm;
     o.match = MatchMode::PerChannel;
     o.optics.da = 0.1;
+    o.optics.extinction = Extinction::Paper;
     o.fit.method = FitMethod::Step;
     o.final_match = false;
     return o;

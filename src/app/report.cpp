@@ -161,6 +161,7 @@ nlohmann::json volume_json(const PipelineOptions& o, const MaterialVolume& volum
             {"frequency", volume.noise.frequency}, {"stretch", volume.noise.stretch},
             {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
             {"match", to_string(volume.match)},
+            {"extinction", to_string(volume.optics.extinction)},
             {"ds", volume.optics.ds}, {"da", volume.optics.da},
             {"density_scale", volume.optics.density_scale}, {"contrast", volume.optics.contrast},
             {"mean_level", volume.optics.mean_level},

@@ -19,6 +19,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -257,6 +258,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:bands", openvdb::DoubleMetadata(v.noise.bands));
     meta.insertMeta("jade:warp", openvdb::DoubleMetadata(v.noise.warp));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
+    meta.insertMeta("jade:extinction", openvdb::StringMetadata(to_string(v.optics.extinction)));
     meta.insertMeta("jade:ds", openvdb::DoubleMetadata(v.optics.ds));
     meta.insertMeta("jade:da", openvdb::DoubleMetadata(v.optics.da));
     meta.insertMeta("jade:ks", openvdb::Vec3DMetadata(
@@ -413,6 +415,15 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:bands")) v.noise.bands = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:warp")) v.noise.warp = m->value();
     v.match = parse_match_mode(required_meta<std::string>(meta, path, "jade:match"));
+    // Files from before the grey extinction have §5.1's.
+    v.optics.extinction = Extinction::Paper;
+    if (const auto m = meta.getMetadata<openvdb::StringMetadata>("jade:extinction")) {
+        try {
+            v.optics.extinction = parse_extinction(m->value());
+        } catch (const Error&) {
+            fail_file(path, "metadata 'jade:extinction' must be 'grey' or 'paper', not '" + m->value() + "'");
+        }
+    }
     v.optics.ds = required_meta<double>(meta, path, "jade:ds");
     v.optics.da = required_meta<double>(meta, path, "jade:da");
     const auto ks = required_meta<openvdb::Vec3d>(meta, path, "jade:ks");
@@ -444,28 +455,22 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     return v;
 }
 
-// Inverts the coefficient formula for one channel of one voxel: the level
-// whose coefficient is nearest the stored one, searched around the formula's
-// inverse. sigma_a = (1 - v'_c) d_s d_a is clamped only by the contrast's clip
-// (where every clipped level gives the same coefficients); without
-// absorption, sigma_s = v'_c d_s + k_s. -1 when the grids do not follow from
-// that level and the metadata (to half-float precision).
 // Whether a stored coefficient is the one a level gives, to half-float precision.
 bool same_coefficient(float want, float got) { return std::abs(want - got) <= 1e-3f * std::abs(want) + 1e-6f; }
 
-int level_of_channel(int c, float ss, float sa, const MaterialVolume& v, const CoefficientTable& table) {
-    const double to_paper = v.cube.side / v.optics.density_scale;
-    const bool by_a = v.optics.da > 0.0;
-    const auto& column = by_a ? table.sigma_a[c] : table.sigma_s[c];
-    const float stored = by_a ? sa : ss;
-    const double vc_contrasted = by_a ? 1.0 - stored * to_paper / (v.optics.ds * v.optics.da)
-                                      : (stored * to_paper - v.optics.ks[c]) / v.optics.ds;
-    const double g = v.optics.contrast[c], m = v.optics.mean_level[c];
-    const double vc = g > 0.0 ? m + (vc_contrasted - m) / g : m;
-    const int guess = int(std::clamp(std::lround(vc * 256.0), 0L, 255L));
-    int best = guess;
-    for (int l = std::max(0, guess - 4); l <= std::min(255, guess + 4); ++l)
-        if (std::abs(column[l] - stored) < std::abs(column[best] - stored)) best = l;
+// The level of one channel of one voxel: the level whose two coefficients are
+// nearest the stored ones (levels the contrast clips give the same pair, and
+// any of them will do). -1 when the grids do not follow from a level and the
+// metadata (to half-float precision). A search over the table rather than the
+// formula's inverse, so that it holds for either extinction; LevelMemo below
+// asks it about once per distinct pair.
+int level_of_channel(int c, float ss, float sa, const CoefficientTable& table) {
+    int best = 0;
+    float best_gap = std::numeric_limits<float>::infinity();
+    for (int l = 0; l < 256; ++l) {
+        const float gap = std::abs(table.sigma_s[c][l] - ss) + std::abs(table.sigma_a[c][l] - sa);
+        if (gap < best_gap) best = l, best_gap = gap;
+    }
     return same_coefficient(table.sigma_s[c][best], ss) && same_coefficient(table.sigma_a[c][best], sa) ? best : -1;
 }
 
@@ -475,7 +480,7 @@ int level_of_channel(int c, float ss, float sa, const MaterialVolume& v, const C
 // One per thread.
 class LevelMemo {
 public:
-    LevelMemo(const MaterialVolume& v, const CoefficientTable& t) : volume_(v), table_(t) {
+    explicit LevelMemo(const CoefficientTable& t) : table_(t) {
         for (auto& slots : slots_) slots.fill(Slot{});
     }
     int level(int c, float ss, float sa) {
@@ -484,7 +489,7 @@ public:
         std::memcpy(&b, &sa, 4);
         const std::uint64_t key = (std::uint64_t(a) << 32) | b;
         Slot& slot = slots_[c][(key * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
-        if (!slot.used || slot.key != key) slot = {key, level_of_channel(c, ss, sa, volume_, table_), true};
+        if (!slot.used || slot.key != key) slot = {key, level_of_channel(c, ss, sa, table_), true};
         return slot.level;
     }
 
@@ -495,7 +500,6 @@ private:
         int level = -1;
         bool used = false;
     };
-    const MaterialVolume& volume_;
     const CoefficientTable& table_;
     std::array<std::array<Slot, 1u << kBits>, 3> slots_;
 };
@@ -542,7 +546,7 @@ bool read_level_slab(openvdb::io::File& file, const std::string& path, int z0, i
     tbb::parallel_for(z0, z1, [&](int z) {
         auto acc_s = gs->getConstAccessor();
         auto acc_a = ga->getConstAccessor();
-        auto memo = use == SlabUse::Recover ? std::make_unique<LevelMemo>(v, table) : nullptr;
+        auto memo = use == SlabUse::Recover ? std::make_unique<LevelMemo>(table) : nullptr;
         for (int y = 0; y < s; ++y)
             for (int x = 0; x < s; ++x) {
                 const openvdb::Coord xyz(x, y, z);

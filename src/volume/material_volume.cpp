@@ -35,12 +35,39 @@ double contrasted_level(int level, int channel, const OpticalParams& p) {
     return std::clamp(m + g * (vc - m), 0.0, 1.0);
 }
 
+const char* to_string(Extinction extinction) { return extinction == Extinction::Grey ? "grey" : "paper"; }
+
+Extinction parse_extinction(const std::string& text) {
+    if (text == "grey") return Extinction::Grey;
+    if (text == "paper") return Extinction::Paper;
+    throw Error("--extinction must be 'grey' or 'paper', got '" + text + "'");
+}
+
+namespace {
+
+// §5.1's coefficients of a level, before the extinction is chosen.
+struct PaperPair {
+    double s, a;
+};
+PaperPair section_5_1(int level, int channel, const OpticalParams& p) {
+    const double v = contrasted_level(level, channel, p);
+    return {std::max(0.0, v * p.ds + p.ks[channel]), (1.0 - v) * p.ds * p.da};
+}
+
+// The share of the extinction d_s that scatters: §5.1's albedo (0 where §5.1
+// gives no extinction at all).
+double grey_albedo(const PaperPair& c) { return c.s + c.a > 0.0 ? c.s / (c.s + c.a) : 0.0; }
+
+}  // namespace
+
 double paper_sigma_s(int level, int channel, const OpticalParams& p) {
-    return std::max(0.0, contrasted_level(level, channel, p) * p.ds + p.ks[channel]);
+    const PaperPair c = section_5_1(level, channel, p);
+    return p.extinction == Extinction::Grey ? p.ds * grey_albedo(c) : c.s;
 }
 
 double paper_sigma_a(int level, int channel, const OpticalParams& p) {
-    return (1.0 - contrasted_level(level, channel, p)) * p.ds * p.da;
+    const PaperPair c = section_5_1(level, channel, p);
+    return p.extinction == Extinction::Grey ? p.ds * (1.0 - grey_albedo(c)) : c.a;
 }
 
 std::array<double, 3> mean_levels(const std::vector<Rgb8>& levels) {

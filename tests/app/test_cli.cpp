@@ -4,6 +4,7 @@
 
 #include "jade/core/memory.h"
 #include "jade/io/image_io.h"
+#include "jade/io/vdb_io.h"
 
 using jade::ImageF32;
 using jade::read_image_f32;
@@ -85,6 +86,13 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
     REQUIRE(fbm.code == 0);
     CHECK(lines(fbm.out) == 1);
     CHECK_THAT(fbm.out, Catch::Contains("structure fbm: frequency 1.00, k 0.50, stretch 1.00"));
+
+    // The extinction: grey by default, §5.1's on request, and the file says which.
+    CHECK(jade::read_material_vdb(dir.file("fbm.vdb")).optics.extinction == jade::Extinction::Grey);
+    REQUIRE(run(dir, "volume --structure fbm --extinction paper --photo " JADE_DATA_DIR
+                     "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " + dir.file("paper.vdb"))
+                .code == 0);
+    CHECK(jade::read_material_vdb(dir.file("paper.vdb")).optics.extinction == jade::Extinction::Paper);
 }
 
 TEST_CASE("--help documents the flags and exits 0", "[cli]") {
@@ -147,6 +155,7 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
     require_clean_failure(dir, "volume --photo " + demo + " --k 2" + out, "--k");
     require_clean_failure(dir, "volume --photo " + demo + " --resolution abc" + out, "--resolution");
     require_clean_failure(dir, "volume --photo " + demo + " --match both" + out, "--match");
+    require_clean_failure(dir, "volume --photo " + demo + " --extinction gray-ish" + out, "--extinction");
     require_clean_failure(dir, "volume --photo " + demo + " --out " + dir.file("no/such/dir/v.vdb"),
                           "does not exist");
 }

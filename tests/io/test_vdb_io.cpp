@@ -67,6 +67,7 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.warp == b.noise.warp);
     CHECK(a.structure == b.structure);
     CHECK(a.match == b.match);
+    CHECK(a.optics.extinction == b.optics.extinction);
     CHECK(a.optics.ds == b.optics.ds);
     CHECK(a.optics.da == b.optics.da);
     CHECK(a.optics.ks == b.optics.ks);
@@ -94,7 +95,9 @@ TEST_CASE("write -> read round trip is exact", "[vdb]") {
     OpticalParams dense, thin;
     dense.density_scale = 1e6;
     thin.density_scale = 1e-3;
-    for (const OpticalParams& optics : {defaults, fitted, no_absorption, dense, thin}) {
+    OpticalParams paper = fitted;  // §5.1's extinction
+    paper.extinction = Extinction::Paper;
+    for (const OpticalParams& optics : {defaults, fitted, no_absorption, dense, thin, paper}) {
         // 20 is not a multiple of the 8-voxel leaf: partial leaves too.
         const MaterialVolume v = sample_volume(20, optics);
         write_material_vdb(dir.file("v.vdb"), v);
@@ -482,13 +485,51 @@ TEST_CASE("masked to a mesh and turned Z-up: the coefficient grids cover the int
 
 TEST_CASE("a format 1 file (no levels grid) still reads: levels recovered from the coefficients", "[vdb]") {
     TempDir dir;
-    const MaterialVolume v = sample_volume(16, OpticalParams{});
-    write_material_vdb(dir.file("v.vdb"), v);
-    auto [grids, meta] = read_all(dir.file("v.vdb"));
-    grids->erase(std::remove_if(grids->begin(), grids->end(), [](const auto& g) { return g->getName() == "levels"; }),
-                 grids->end());
-    meta->removeMeta("jade:format_version");
-    meta->insertMeta("jade:format_version", openvdb::Int32Metadata(1));
-    openvdb::io::File(dir.file("v1.vdb")).write(*grids, *meta);
-    require_same(v, read_material_vdb(dir.file("v1.vdb")));
+    OpticalParams paper;  // files of that format have §5.1's extinction and no key for it
+    paper.extinction = Extinction::Paper;
+    paper.ks = {0.3, -0.2, 1.5};
+    paper.da = 0.25;
+    for (const OpticalParams& optics : {OpticalParams{}, paper}) {
+        const MaterialVolume v = sample_volume(16, optics);
+        write_material_vdb(dir.file("v.vdb"), v);
+        auto [grids, meta] = read_all(dir.file("v.vdb"));
+        grids->erase(
+            std::remove_if(grids->begin(), grids->end(), [](const auto& g) { return g->getName() == "levels"; }),
+            grids->end());
+        meta->removeMeta("jade:format_version");
+        meta->insertMeta("jade:format_version", openvdb::Int32Metadata(1));
+        if (optics.extinction == Extinction::Paper) meta->removeMeta("jade:extinction");
+        openvdb::io::File(dir.file("v1.vdb")).write(*grids, *meta);
+        require_same(v, read_material_vdb(dir.file("v1.vdb")));
+    }
+}
+
+TEST_CASE("the extinction travels in the file, and a file without it has §5.1's", "[vdb]") {
+    TempDir dir;
+    OpticalParams fitted;
+    fitted.ks = {2.0, 1.0, 0.3};  // grey and §5.1's extinctions differ where k_s is not 0
+    MaterialVolume v = sample_volume(12, fitted);
+    write_material_vdb(dir.file("grey.vdb"), v);
+    const MaterialVolume grey = read_material_vdb(dir.file("grey.vdb"));
+    CHECK(grey.optics.extinction == Extinction::Grey);
+    // Grey: the density grid (the mean σ_t) is d_s · density_scale / side in every voxel.
+    auto [grids, meta] = read_all(dir.file("grey.vdb"));
+    for (const auto& g : *grids)
+        if (g->getName() == "density") {
+            const auto density = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
+            for (auto it = density->cbeginValueOn(); it; ++it)
+                REQUIRE(*it == Approx(fitted.density_scale / 3.0).epsilon(1e-3));
+        }
+    // An earlier version's file: no key, §5.1's extinction, and its grids say so.
+    v.optics.extinction = Extinction::Paper;
+    write_material_vdb(dir.file("paper.vdb"), v);
+    auto [paper_grids, paper_meta] = read_all(dir.file("paper.vdb"));
+    paper_meta->removeMeta("jade:extinction");
+    openvdb::io::File(dir.file("old.vdb")).write(*paper_grids, *paper_meta);
+    CHECK(read_material_vdb(dir.file("old.vdb")).optics.extinction == Extinction::Paper);
+    // A key with another value is refused with the file's name.
+    paper_meta->removeMeta("jade:extinction");
+    paper_meta->insertMeta("jade:extinction", openvdb::StringMetadata("purple"));
+    openvdb::io::File(dir.file("bad.vdb")).write(*paper_grids, *paper_meta);
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("bad.vdb")), Catch::Contains("bad.vdb") && Catch::Contains("extinction"));
 }

@@ -75,13 +75,35 @@ TEST_CASE("negative or non-finite coefficients are refused", "[medium]") {
     CHECK_THROWS(FloatGridMedium(g));
 }
 
+TEST_CASE("a grey extinction makes the material volume's extinction one number", "[medium]") {
+    MaterialVolume v;
+    v.resolution = 4;
+    v.levels.assign(64, Rgb8{128, 64, 255});
+    v.levels[v.index(3, 3, 3)] = Rgb8{0, 30, 7};
+    v.optics.ks = {2.0, 0.5, -0.1};  // §5.1 would give each channel its own extinction
+    v.optics.contrast = {3.0, 2.0, 1.0};
+    v.optics.mean_level = {0.4, 0.3, 0.6};
+    Cube cube;
+    cube.min = {0.0, 0.0, 0.0};
+    cube.side = 0.5;
+    const MaterialVolumeMedium m(v, cube);
+    const float sigma_t = float(v.optics.ds * v.optics.density_scale / cube.side);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(m.majorant()[c] == Approx(sigma_t).epsilon(1e-6));
+        CHECK(m.minorant()[c] == Approx(sigma_t).epsilon(1e-6));
+    }
+    const MediumProperties p = m.at({0.0625f, 0.0625f, 0.0625f});
+    CHECK(p.sigma_s.x / sigma_t == Approx((0.4 + 3.0 * (0.5 - 0.4) + 2.0) / (0.7 + 2.0 + 0.3)));
+}
+
 TEST_CASE("the material volume becomes world coefficients on any cube", "[medium]") {
     MaterialVolume v;
     v.resolution = 4;
     v.levels.assign(64, Rgb8{128, 64, 255});
     v.levels[v.index(3, 3, 3)] = Rgb8{0, 0, 0};
     v.optics.ks = {0.1, 0.0, -0.2};
-    v.optics.da = 0.1;  // the paper's d_a, as in the numbers below
+    v.optics.da = 0.1;  // the paper's d_a and extinction, as in the numbers below
+    v.optics.extinction = Extinction::Paper;
     for (double side : {1.0, 0.25}) {
         Cube cube;
         cube.min = {2.0, -1.0, 0.0};

@@ -9,6 +9,7 @@ using namespace jade;
 
 TEST_CASE("coefficients follow §5.1 exactly for known v_c", "[material_volume]") {
     OpticalParams p;  // the paper's values: d_s = 1, d_a = 0.1, k_s = 0
+    p.extinction = Extinction::Paper;
     p.da = 0.1;
     // level 128 -> v_c = 0.5
     CHECK(paper_sigma_s(128, 0, p) == 0.5);
@@ -39,6 +40,7 @@ TEST_CASE("the contrast stretches the levels about their mean and clips them to 
     p.contrast = {1.0, 1.0, 1.0};
     CHECK(contrasted_level(17, 2, p) == 17 / 256.0);      // contrast 1: the paper's level, exactly
     p.contrast = {2.0, 1.0, 1.0};
+    p.extinction = Extinction::Paper;
     p.ds = 1.0, p.da = 0.5, p.ks = {0.1, 0.0, 0.0};
     CHECK(paper_sigma_s(160, 0, p) == Approx(0.75 + 0.1));
     CHECK(paper_sigma_a(160, 0, p) == Approx(0.25 * 0.5));
@@ -51,12 +53,45 @@ TEST_CASE("the contrast stretches the levels about their mean and clips them to 
 
 TEST_CASE("sigma_s is clamped at zero, sigma_a is not touched by k_s", "[material_volume]") {
     OpticalParams p;
+    p.extinction = Extinction::Paper;
     p.da = 0.1;
     p.ks = {-0.3, -0.3, -0.3};
     CHECK(paper_sigma_s(0, 0, p) == 0.0);
     CHECK(paper_sigma_s(64, 0, p) == 0.0);   // 0.25 - 0.3 < 0
     CHECK(paper_sigma_s(128, 0, p) == Approx(0.2));
     CHECK(paper_sigma_a(64, 0, p) == Approx(0.075));
+}
+
+TEST_CASE("a grey extinction keeps §5.1's albedo and gives every voxel and channel the extinction d_s",
+          "[material_volume]") {
+    OpticalParams grey, paper;
+    paper.extinction = Extinction::Paper;
+    // At k_s = 0 and d_a = 1, §5.1's extinction is d_s already: the same coefficients.
+    for (int level : {0, 1, 100, 255})
+        for (int c = 0; c < 3; ++c) {
+            CHECK(paper_sigma_s(level, c, grey) == Approx(paper_sigma_s(level, c, paper)).epsilon(1e-12));
+            CHECK(paper_sigma_a(level, c, grey) == Approx(paper_sigma_a(level, c, paper)).epsilon(1e-12));
+        }
+    for (OpticalParams* p : {&grey, &paper}) {
+        p->ds = 1.5, p->da = 0.4, p->ks = {2.0, 0.5, -0.2};
+        p->contrast = {3.0, 1.0, 2.0}, p->mean_level = {0.4, 0.5, 0.6};
+    }
+    for (int level = 0; level < 256; ++level)
+        for (int c = 0; c < 3; ++c) {
+            const double s = paper_sigma_s(level, c, grey), a = paper_sigma_a(level, c, grey);
+            CHECK(s + a == Approx(1.5).epsilon(1e-12));
+            const double ps = paper_sigma_s(level, c, paper), pa = paper_sigma_a(level, c, paper);
+            CHECK(s / (s + a) == Approx(ps / (ps + pa)).margin(1e-12));
+        }
+    // Where k_s empties σ_s (v'·d_s + k_s < 0) the voxel only absorbs.
+    CHECK(paper_sigma_s(10, 2, grey) == 0.0);
+    CHECK(paper_sigma_a(10, 2, grey) == Approx(1.5));
+    // Worked by hand: level 128 in green (v' = 0.5): §5.1 gives σ_s = 0.75 + 0.5,
+    // σ_a = 0.5·1.5·0.4 = 0.3, so the albedo is 1.25 / 1.55.
+    CHECK(paper_sigma_s(128, 1, grey) == Approx(1.5 * 1.25 / 1.55));
+    CHECK(to_string(parse_extinction("grey")) == std::string("grey"));
+    CHECK(parse_extinction("paper") == Extinction::Paper);
+    CHECK_THROWS(parse_extinction("gray-ish"));
 }
 
 TEST_CASE("world coefficients are paper coefficients times density_scale / cube side",

@@ -9,6 +9,12 @@
 //   σ_a   = (1 − v'_c) · d_s · d_a
 //   world = paper · density_scale / cube side    (per world unit; docs/design.md, "Units")
 //
+// With a grey extinction (Extinction::Grey, the default) every voxel and
+// channel keeps the albedo σ_s / (σ_s + σ_a) above and takes the extinction
+// d_s: the stone scatters alike in every channel and its colour is its
+// absorption (docs/design.md, "Coefficients"). At k_s = 0 and d_a = 1 the two
+// are the same coefficients.
+//
 // At g_c = 1 (the default) v' = v and the formulas are the paper's §5.1. The
 // contrast is the fit's second lever (docs/design.md, "Contrast"): k_s adds
 // the same scattering to every voxel and so washes the structure out; g_c
@@ -34,7 +40,14 @@ namespace jade {
 
 class Progress;
 
+// How the extinction follows from the levels: §5.1's σ_s + σ_a (Paper), or d_s
+// in every voxel and channel with §5.1's albedo (Grey).
+enum class Extinction { Paper, Grey };
+const char* to_string(Extinction extinction);
+Extinction parse_extinction(const std::string& text);
+
 struct OpticalParams {
+    Extinction extinction = Extinction::Grey;
     double ds = 1.0;                      // d_s, scattering scale
     double da = 1.0;                      // d_a, absorption scale (the paper: 0.1; README: "Defaults")
     std::array<double, 3> ks{0, 0, 0};    // k_s(R, G, B), the fitted offsets
@@ -72,7 +85,8 @@ constexpr double kMaxContrast = 16.0;
 
 // v'_c of a level after the channel's contrast (above).
 double contrasted_level(int level, int channel, const OpticalParams& p);
-// Paper-unit coefficients for one channel's level (§5.1, with the contrast).
+// Paper-unit coefficients for one channel's level (§5.1, with the contrast,
+// and with the extinction of p.extinction).
 double paper_sigma_s(int level, int channel, const OpticalParams& p);
 double paper_sigma_a(int level, int channel, const OpticalParams& p);
 // The mean v_c per channel over the volume's voxels (OpticalParams::mean_level).
