@@ -174,6 +174,8 @@ struct RenderFlags {
     std::string light_chain = "auto";
     std::string samples, pixels, piece_of;  // a piece of the render
     Vec3Flag sigma_s, sigma_a, ks, contrast, vdb_albedo, origin, target, up, light_dir;
+    std::string sphere;
+    std::string job_mesh;  // the --job's own mesh, to tell a --mesh given beside it
 };
 
 // `render --job FILE`: the job is read before the flags are parsed, so that
@@ -195,6 +197,7 @@ bool preload_job(int argc, char** argv, RenderFlags& f) {
             std::fprintf(stderr, "jaderender: error: %s\n", e.what());
             return false;
         }
+        f.job_mesh = f.job.mesh;
         f.boundary = jade::to_string(f.job.interface.mode);
         f.light_nee = jade::to_string(f.job.settings.integrator.light_through_boundary);
         f.light_chain = jade::to_string(f.job.settings.integrator.light_chain);
@@ -210,6 +213,9 @@ void add_medium_flags(CLI::App& cmd, RenderFlags& f) {
                    "Render the job in this file (a job document, or a report.json whose final render "
                    "it replays); flags given beside it override its keys");
     cmd.add_option("--mesh", j.mesh, "The object's surface (.obj, .gltf, .glb); closed, outward-facing");
+    cmd.add_option("--sphere", f.sphere,
+                   "An analytic sphere instead of --mesh: centre and radius x,y,z,r (exact normals, no "
+                   "triangles; reference scenes A and B)");
     cmd.add_option("--volume", j.volume,
                    "Medium: a jaderender .vdb (mapped onto the mesh's bounding cube) or a foreign "
                    ".vdb with world-space grids sigma_s + sigma_a, or density [+ color]");
@@ -381,6 +387,16 @@ void resolve_flags(RenderFlags& f) {
     j.interface.mode = jade::parse_boundary_mode(f.boundary);
     j.settings.integrator.light_through_boundary = jade::parse_light_through_boundary(f.light_nee);
     j.settings.integrator.light_chain = jade::parse_light_chain(f.light_chain);
+    if (!f.sphere.empty()) {
+        glm::vec3 c;
+        float r = 0.f;
+        if (!jade::parse_sphere(f.sphere, c, r))
+            throw jade::Error("--sphere expects x,y,z,r with r > 0, not '" + f.sphere + "'");
+        j.sphere = std::array<float, 4>{c.x, c.y, c.z, r};
+        if (j.mesh == f.job_mesh) j.mesh.clear();  // beside a --job, it replaces the job's mesh
+    } else if (j.sphere && !j.mesh.empty() && j.mesh != f.job_mesh) {
+        j.sphere.reset();  // a --mesh beside a --job replaces the job's sphere
+    }
     if (f.sigma_s.given()) j.sigma_s = f.sigma_s.value("--sigma-s");
     if (f.sigma_a.given()) j.sigma_a = f.sigma_a.value("--sigma-a");
     if (f.ks.given()) {

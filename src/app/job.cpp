@@ -103,10 +103,12 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
                    {"fov_degrees", job.fov_degrees}, {"width", job.width}, {"height", job.height}};
     if (job.camera_origin) camera["origin"] = vec(*job.camera_origin);
     if (job.camera_target_given) camera["target"] = vec(job.camera_target);
+    json scene = {{"mesh", stored_path(job.mesh, base_dir)}, {"flat_normals", job.flat_normals},
+                  {"allow_open", job.allow_open}, {"boundary", to_string(job.interface.mode)},
+                  {"ior", job.interface.ior}, {"specular", job.interface.specular}, {"g", job.g}};
+    if (job.sphere) scene["sphere"] = *job.sphere;
     const json j = {
-        {"scene", {{"mesh", stored_path(job.mesh, base_dir)}, {"flat_normals", job.flat_normals},
-                   {"allow_open", job.allow_open}, {"boundary", to_string(job.interface.mode)},
-                   {"ior", job.interface.ior}, {"specular", job.interface.specular}, {"g", job.g}}},
+        {"scene", scene},
         {"medium", medium},
         {"camera", camera},
         {"lights", {{"direction", vec(job.light_direction)}, {"irradiance", job.light_irradiance},
@@ -136,6 +138,11 @@ namespace {
 void read_scene_and_medium(const json& j, RenderJob& job, const std::string& file) {
     const json scene = j.value("scene", json::object()), medium = j.value("medium", json::object());
     read(scene, "mesh", job.mesh, file, "scene");
+    if (scene.contains("sphere")) {
+        std::array<float, 4> s{};
+        read(scene, "sphere", s, file, "scene");
+        job.sphere = s;
+    }
     read(scene, "flat_normals", job.flat_normals, file, "scene");
     read(scene, "allow_open", job.allow_open, file, "scene");
     std::string mode = to_string(job.interface.mode);

@@ -80,7 +80,8 @@ std::unique_ptr<LoadedMedium> load_medium(const RenderJob& job, const Cube& cube
 // What any render of the job needs, its outputs aside.
 void validate_scene_of(const RenderJob& job) {
     job.settings.validate();
-    if (job.mesh.empty()) throw Error("--mesh is required (or a --job that names one)");
+    if (job.mesh.empty() == !job.sphere)
+        throw Error("give either --mesh or --sphere (or a --job that names one)");
     if (!(job.exposure >= 0.f) || !std::isfinite(job.exposure))
         throw Error("--exposure must be a finite number >= 0 (0: the volume's fitted one, or 1)");
     if (job.volume.empty() == !(job.sigma_s || job.sigma_a))

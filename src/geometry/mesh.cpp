@@ -90,8 +90,9 @@ void compute_vertex_normals(TriangleMesh& mesh) {
 }
 
 
-Cube bounding_cube(const TriangleMesh& mesh) {
-    const Bounds3 b = mesh.bounds();
+Cube bounding_cube(const TriangleMesh& mesh) { return bounding_cube(mesh.bounds()); }
+
+Cube bounding_cube(const Bounds3& b) {
     const glm::vec3 c = b.centre(), e = b.extent();
     const double side = std::max({e.x, e.y, e.z});
     Cube cube;

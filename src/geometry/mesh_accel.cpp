@@ -243,11 +243,11 @@ SurfaceHit MeshAccel::surface(const RayHit& ray_hit) const {
     const float u = ray_hit.u, v = ray_hit.v;
     SurfaceHit hit;
     hit.t = ray_hit.t;
-    hit.triangle = ray_hit.triangle;
+    hit.primitive = ray_hit.primitive;
     hit.u = u;
     hit.v = v;
     // Our own face normal, (p1 - p0) x (p2 - p0), whose orientation we define.
-    const TriangleShading& ts = shading_[ray_hit.triangle];
+    const TriangleShading& ts = shading_[ray_hit.primitive];
     hit.geometric_normal = ts.face;
     hit.shading_normal = hit.geometric_normal;
     if (!flat_) {
@@ -258,7 +258,7 @@ SurfaceHit MeshAccel::surface(const RayHit& ray_hit) const {
     return hit;
 }
 
-std::optional<SurfaceHit> MeshAccel::intersect_triangle(const glm::vec3& o, const glm::vec3& d,
+std::optional<SurfaceHit> MeshAccel::intersect_primitive(const glm::vec3& o, const glm::vec3& d,
                                                         std::uint32_t triangle) const {
     const auto& tri = mesh_.triangles[triangle];
     const glm::vec3& p0 = mesh_.positions[tri[0]];
@@ -279,11 +279,11 @@ std::optional<SurfaceHit> MeshAccel::intersect_triangle(const glm::vec3& o, cons
 // the triangle's frame (triangle_frame).
 SurfaceDifferential MeshAccel::differential(const SurfaceHit& hit) const {
     SurfaceDifferential sd;
-    const TriangleFrame& f = frames_[hit.triangle];
+    const TriangleFrame& f = frames_[hit.primitive];
     sd.tangent[0] = f.tangent[0];
     sd.tangent[1] = f.tangent[1];
     if (flat_ || f.tangent[0] == glm::vec3(0.f)) return sd;
-    const TriangleShading& ts = shading_[hit.triangle];
+    const TriangleShading& ts = shading_[hit.primitive];
     const glm::vec3 nt = (1.f - hit.u - hit.v) * ts.normal[0] + hit.u * ts.normal[1] + hit.v * ts.normal[2];
     const float len = glm::length(nt);
     if (!(len > 1e-6f)) return sd;  // the shading normal fell back to the face's

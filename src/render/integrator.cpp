@@ -62,7 +62,7 @@ SphereExitTables sphere_exit_tables(const Scene& scene, const IntegratorSettings
     if (!(min_component(sigma_t) > 0.f)) return {};
     // No point inside a closed surface lies farther from it than half the
     // box's smallest side.
-    const float deepest = 0.5f * min_component(scene.boundary->mesh().bounds().extent());
+    const float deepest = 0.5f * min_component(scene.boundary->bounds().extent());
     const double largest = double(max_component(sigma_t)) *
                            double(deepest - kSphereMargin / min_component(sigma_t));
     // Unless a sphere of level 1 fits somewhere, the distance queries would

@@ -327,7 +327,7 @@ Histograms normalised_histograms(const std::vector<std::int32_t>& place, const s
 // Every photon of the guide into `deposits` (photon i from
 // SampleStream(seed, i, kStream)).
 void trace_photons(const Scene& scene, std::uint64_t seed, std::uint32_t photons, const Deposits& deposits) {
-    const Bounds3 box = scene.boundary->mesh().bounds();
+    const Bounds3 box = scene.boundary->bounds();
     const glm::vec3 centre = 0.5f * (box.min + box.max);
     const float radius = 0.5f * glm::length(box.extent()) * 1.01f;
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, photons, 1024),
@@ -357,7 +357,7 @@ LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideS
     if (!scene.boundary || !scene.medium || !scene.light.on() || scene.light.is_delta() ||
         scene.interface.mode == BoundaryMode::None || settings.cells < 1)
         return;
-    const Bounds3 box = scene.boundary->mesh().bounds();
+    const Bounds3 box = scene.boundary->bounds();
     const glm::vec3 extent = box.extent();
     const float longest = max_component(extent);
     if (!(longest > 0.f)) return;

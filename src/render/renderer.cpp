@@ -58,12 +58,12 @@ glm::vec2 film_position(const PinholeCamera& camera, int x, int y, SampleStream&
 
 // Samples [samples.first, samples.last) of pixel (x, y), in index order.
 // Their camera rays leave one point in nearly one direction: each packet of
-// MeshAccel::kPacket is traced at once, and every path goes on alone from
+// Boundary::kPacket is traced at once, and every path goes on alone from
 // its first hit. A sample's random numbers start with its film position.
 void add_pixel_samples(const Scene& scene, const Integrator& integrator,
                        const PinholeCamera& camera, const RenderSettings& settings,
                        SampleRange samples, int x, int y, const FilmsByReplicate& out, PathCounters& counters) {
-    constexpr int kPacket = MeshAccel::kPacket;
+    constexpr int kPacket = Boundary::kPacket;
     const std::uint64_t pixel = std::uint64_t(y) * camera.width() + x;
     const PixelSampler sampler(settings.seed, pixel);
     for (int first = samples.first; first < samples.last; first += kPacket) {
@@ -136,7 +136,7 @@ void add_samples(const Scene& scene, const Integrator& integrator, const Pinhole
                  const FilmsByReplicate& out, PathCounters& counters, Progress* progress, Deadline deadline = {}) {
     const int tiles_x = (bounds.x1 - bounds.x0 + kTile - 1) / kTile;
     const int tiles_y = (bounds.y1 - bounds.y0 + kTile - 1) / kTile;
-    const PixelBounds seen = pixels_seeing(camera, scene.boundary->mesh());
+    const PixelBounds seen = pixels_seeing(camera, scene.boundary->hull_points());
     tbb::enumerable_thread_specific<PathCounters> local_counters;
     tbb::parallel_for(0, tiles_x * tiles_y, [&](int tile) {
         PathCounters& local = local_counters.local();
@@ -190,10 +190,10 @@ Integrator make_integrator(const Scene& scene, const PinholeCamera& camera, cons
 
 }  // namespace
 
-PixelBounds pixels_seeing(const PinholeCamera& camera, const TriangleMesh& mesh) {
+PixelBounds pixels_seeing(const PinholeCamera& camera, const std::vector<glm::vec3>& hull) {
     const PixelBounds film{0, 0, camera.width(), camera.height()};
     glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-    for (const glm::vec3& p : mesh.positions) {
+    for (const glm::vec3& p : hull) {
         const std::optional<glm::vec2> f = camera.film_point(p);
         if (!f || !std::isfinite(f->x) || !std::isfinite(f->y)) return film;
         lo = glm::min(lo, *f);

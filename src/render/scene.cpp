@@ -7,7 +7,7 @@ namespace jade {
 
 void Scene::fit_ray_epsilon() {
     if (!boundary) return;
-    const Bounds3 b = boundary->mesh().bounds();
+    const Bounds3 b = boundary->bounds();
     // Embree's hit points carry a float rounding error of a few ulps of the
     // coordinates' magnitude; 1e-5 of the scene's size lies far above it and
     // far below any feature a mesh resolves.

@@ -116,7 +116,7 @@ struct WalkPoint {
 std::optional<WalkPoint> walk_point(const Scene& scene, const glm::vec3& p, const glm::vec3& w,
                                     const glm::vec3& target, const WalkPoint* previous = nullptr) {
     std::optional<SurfaceHit> hit;
-    if (previous) hit = scene.boundary->intersect_triangle(p, w, previous->hit.triangle);
+    if (previous) hit = scene.boundary->intersect_primitive(p, w, previous->hit.primitive);
     if (!hit) hit = scene.boundary->intersect(p, w, 0.f, kInfinity);
     if (!hit || !(glm::dot(w, hit->geometric_normal) > 0.f)) return std::nullopt;
     WalkPoint wp;
@@ -220,7 +220,7 @@ std::optional<RefractionSeed> refraction_seed(const Scene& scene, const glm::vec
     const BoundaryTransmission in = boundary_transmission(
         scene.interface, -target, interface_normal(*probe, -target, true), true);
     if (in.direction == glm::vec3(0.f)) return std::nullopt;
-    return RefractionSeed{-in.direction, probe->triangle, probe->t};
+    return RefractionSeed{-in.direction, probe->primitive, probe->t};
 }
 
 std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm::vec3& p,
@@ -236,7 +236,7 @@ std::optional<RefractedExit> solve_refracted_exit(const Scene& scene, const glm:
     std::optional<WalkPoint> start;
     if (seed) {
         WalkPoint probed;
-        probed.hit.triangle = seed->triangle;
+        probed.hit.primitive = seed->primitive;
         start = walk_point(scene, p, seed->direction, target, &probed);
     }
     const auto exit = newton_walk(
@@ -280,7 +280,7 @@ struct ChainPoint {
 bool trace_chain(const Scene& scene, const glm::vec3& p, const glm::vec3& w, ChainPoint& cp,
                  const ChainPoint* previous) {
     std::optional<SurfaceHit> first;
-    if (previous) first = scene.boundary->intersect_triangle(p, w, previous->first.triangle);
+    if (previous) first = scene.boundary->intersect_primitive(p, w, previous->first.primitive);
     if (!first) first = scene.boundary->intersect(p, w, 0.f, kInfinity);
     if (!first || !(glm::dot(w, first->geometric_normal) > 0.f) || !(glm::dot(w, first->shading_normal) > 0.f))
         return false;
@@ -289,7 +289,7 @@ bool trace_chain(const Scene& scene, const glm::vec3& p, const glm::vec3& w, Cha
     const glm::vec3 y1 = p + first->t * w;
     const Scene::Spawn spawn = scene.spawn_inside(y1, first->geometric_normal, d);
     std::optional<SurfaceHit> second;
-    if (previous) second = scene.boundary->intersect_triangle(spawn.origin, d, previous->second.triangle);
+    if (previous) second = scene.boundary->intersect_primitive(spawn.origin, d, previous->second.primitive);
     if (!second) second = scene.boundary->intersect(spawn.origin, d, spawn.query_from, kInfinity);
     if (!second || !(glm::dot(d, second->geometric_normal) > 0.f) || !(glm::dot(d, second->shading_normal) > 0.f))
         return false;
@@ -409,8 +409,8 @@ std::optional<ReflectedExit> chain_converged(const Scene& scene, const glm::vec3
     const auto e = chain_exit(scene, cp);
     if (!e || !(glm::length(e->exterior - target) < kManifoldTolerance)) return std::nullopt;
     ChainPoint whole;
-    if (!trace_chain(scene, p, cp.w, whole, nullptr) || whole.first.triangle != cp.first.triangle ||
-        whole.second.triangle != cp.second.triangle)
+    if (!trace_chain(scene, p, cp.w, whole, nullptr) || whole.first.primitive != cp.first.primitive ||
+        whole.second.primitive != cp.second.primitive)
         return std::nullopt;
     return e;
 }

@@ -2,6 +2,7 @@
 // kind of bad input -> exit code 2, one line on stderr naming the problem,
 // and no output file left behind.
 
+#include "jade/app/job.h"
 #include "jade/core/memory.h"
 #include "jade/io/image_io.h"
 #include "jade/io/vdb_io.h"
@@ -207,6 +208,38 @@ TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV"
     CHECK(plot.height == 420);
 }
 
+TEST_CASE("render --sphere: the analytic sphere from flags and from a job document, pixel for pixel",
+          "[cli][render]") {
+    TempDir dir;
+    const std::string scene = " --sigma-s 2,4,6 --sigma-a 0.5 --boundary fresnel --width 24 --height 24 --spp 8"
+                              " --camera-origin 0,0,4 --light-irradiance 0 --env 1 --png '' --convergence ''";
+    const Result r = run(dir, "render --sphere 0.1,0,0,0.8" + scene + " --out " + dir.file("flags.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    // The job document carries the sphere and gives it back.
+    jade::RenderJob job;
+    job.sphere = std::array<float, 4>{0.1f, 0.f, 0.f, 0.8f};
+    { std::ofstream(dir.file("job.json")) << jade::job_json(job, dir.path().string()); }
+    const jade::RenderJob back = jade::load_job(dir.file("job.json"));
+    REQUIRE(back.sphere);
+    CHECK(*back.sphere == *job.sphere);
+    CHECK(back.mesh.empty());
+    const Result j = run(dir, "render --job " + dir.file("job.json") + scene + " --out " + dir.file("job.exr"));
+    INFO(j.err);
+    REQUIRE(j.code == 0);
+    const ImageF32 a = read_image_f32(dir.file("flags.exr")), b = read_image_f32(dir.file("job.exr"));
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    CHECK(a.pixels == b.pixels);
+    // The sphere is seen: the centre is covered, a corner is not.
+    CHECK(a.at(12, 12, 0) != a.at(0, 0, 0));
+    // A --mesh beside the job replaces its sphere, as any flag beside a job replaces its key.
+    const Result m = run(dir, "render --job " + dir.file("job.json") + " --mesh " + kBlob + scene + " --out " +
+                                  dir.file("mesh.exr"));
+    INFO(m.err);
+    CHECK(m.code == 0);
+    CHECK(read_image_f32(dir.file("mesh.exr")).pixels != a.pixels);
+}
+
 TEST_CASE("render: a camera that sees no part of the object says it has no error estimate", "[cli][render]") {
     TempDir dir;
     const Result r = run(dir, "render --mesh " + kBlob +
@@ -309,6 +342,10 @@ TEST_CASE("render: bad input exits 2 with one line and writes nothing", "[cli][r
         {"render --mesh " + dir.file("flat.obj") + medium + out, "every triangle of the mesh is degenerate"},
         {"render --mesh " + dir.file("huge.obj") + medium + out, "rescale it"},
         {"render --mesh " + dir.file("far.obj") + medium + out, "move it toward the origin"},
+        {"render --sphere 0,0,1" + medium + out, "--sphere"},
+        {"render --sphere 0,0,0,-1" + medium + out, "--sphere"},
+        {"render --sphere 0,0,0,1 --mesh " + kBlob + medium + out, "either --mesh or --sphere"},
+        {"render --sphere 1e6,0,0,1" + medium + out, "move it toward the origin"},
         // A fitting flag belongs to the pipeline, not to render.
         {"render --mesh " + kBlob + medium + " --render-seed 2" + out, "--render-seed"},
     };

@@ -168,7 +168,7 @@ TEST_CASE("the shading normal's derivatives match finite differences along the s
             const glm::vec3 q = y + h * sd.tangent[k];
             const auto hq = accel.intersect({0, 0, 0}, glm::normalize(q), 0.f, 10.f);
             REQUIRE(hq);
-            if (hq->triangle != hit->triangle || std::abs(hq->t - glm::length(q)) > 1e-5f) continue;
+            if (hq->primitive != hit->primitive || std::abs(hq->t - glm::length(q)) > 1e-5f) continue;
             const glm::vec3 fd = (hq->shading_normal - hit->shading_normal) / h;
             INFO("derivative " << sd.dn[k].x << " " << sd.dn[k].y << " " << sd.dn[k].z
                                << ", difference quotient " << fd.x << " " << fd.y << " " << fd.z);

@@ -8,6 +8,7 @@
 // be the one the estimator gives the path when asked afterwards (MIS with
 // the paths that meet the light by themselves depends on it).
 
+#include "jade/geometry/mesh_accel.h"
 #include "jade/render/light_estimators/guided.h"
 #include "jade/render/light_estimators/refracted_cone.h"
 #include "jade/render/light_guide.h"

@@ -4,6 +4,7 @@
 // equal, determinism across thread counts, and finite output on stiff cases.
 // Tolerances are z-scores from the films' own per-pixel variance.
 
+#include "jade/geometry/mesh_accel.h"
 #include "jade/geometry/mesh_io.h"
 #include "jade/render/dielectric.h"
 #include "jade/render/integrator.h"

@@ -6,6 +6,7 @@
 // object has no mirrored chain; a delta light has no guide; the threads do
 // not change it. The truths are Snell's and the mirror's laws, written here.
 
+#include "jade/geometry/mesh_accel.h"
 #include "jade/render/light_guide.h"
 #include "jade/render/media/homogeneous.h"
 #include "jade/render/scene.h"

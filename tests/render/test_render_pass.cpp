@@ -2,6 +2,7 @@
 // and merged is bit-identical to one render of all its samples: the random
 // numbers are keyed by (seed, pixel, sample) and the film's sums are exact.
 
+#include "jade/geometry/mesh_accel.h"
 #include "jade/core/random.h"
 #include "jade/geometry/mesh.h"
 #include "jade/render/media/homogeneous.h"
@@ -192,7 +193,7 @@ TEST_CASE("no camera ray through a pixel outside pixels_seeing meets the mesh", 
     cp.width = 64;
     cp.height = 48;
     const PinholeCamera camera(cp);
-    const PixelBounds seen = pixels_seeing(camera, mesh);
+    const PixelBounds seen = pixels_seeing(camera, mesh.positions);
     // The sphere covers about a tenth of the film: the rectangle about it is
     // much smaller than the film, and holds every pixel whose centre meets it.
     CHECK((seen.x1 - seen.x0) * (seen.y1 - seen.y0) < 64 * 48 / 4);
@@ -220,10 +221,10 @@ TEST_CASE("no camera ray through a pixel outside pixels_seeing meets the mesh", 
     SECTION("a camera inside the mesh's reach, or a vertex behind it, keeps the whole film") {
         cp.origin = {1.f, 0.6f, 0.f};
         cp.target = {1.f, 0.6f, -1.f};
-        const PixelBounds within = pixels_seeing(PinholeCamera(cp), mesh);
+        const PixelBounds within = pixels_seeing(PinholeCamera(cp), mesh.positions);
         CHECK((within.x0 == 0 && within.y0 == 0 && within.x1 == 64 && within.y1 == 48));
         cp.origin = {1.f, 0.6f, 0.3f};  // half the sphere behind the camera's plane
-        const PixelBounds straddling = pixels_seeing(PinholeCamera(cp), mesh);
+        const PixelBounds straddling = pixels_seeing(PinholeCamera(cp), mesh.positions);
         CHECK((straddling.x0 == 0 && straddling.y0 == 0 && straddling.x1 == 64 && straddling.y1 == 48));
     }
 }
@@ -238,7 +239,7 @@ TEST_CASE("pixels that cannot see the object hold the backdrop alone, with every
     settings.seed = 5;
     settings.spp = 13;
     const Film film = render_pass(scene, camera, settings, {0, 13}, {0, 0, 32, 24});
-    const PixelBounds seen = pixels_seeing(camera, mesh);
+    const PixelBounds seen = pixels_seeing(camera, mesh.positions);
     int skipped = 0;
     for (int y = 0; y < 24; ++y)
         for (int x = 0; x < 32; ++x) {

@@ -3,6 +3,7 @@
 // refraction point on an exact sphere (found by scanning its great circle),
 // and the Jacobian against finite differences of traced exits.
 
+#include "jade/geometry/mesh_accel.h"
 #include "jade/render/specular_manifold.h"
 #include "jade/render/light.h"
 #include "jade/render/light_estimators/manifold.h"
@@ -167,7 +168,7 @@ TEST_CASE("the exit Jacobian matches finite differences of traced exits", "[mani
         const float h = 2e-4f;
         const auto e1 = refracted_exit(s, centre, glm::normalize(w + h * b1));
         const auto e2 = refracted_exit(s, centre, glm::normalize(w + h * b2));
-        if (!e1 || !e2 || e1->hit.triangle != e->hit.triangle || e2->hit.triangle != e->hit.triangle)
+        if (!e1 || !e2 || e1->hit.primitive != e->hit.primitive || e2->hit.primitive != e->hit.primitive)
             continue;
         const float fd = glm::length(glm::cross(e1->exterior - e->exterior, e2->exterior - e->exterior)) /
                          (h * h);
@@ -316,8 +317,8 @@ TEST_CASE("the chain's Jacobian matches the exact sphere and finite differences 
         const float h = 2e-4f;
         const auto e1 = reflected_exit(s, centre, glm::normalize(w + h * b1));
         const auto e2 = reflected_exit(s, centre, glm::normalize(w + h * b2));
-        if (!e1 || !e2 || e1->exit.triangle != e->exit.triangle || e2->exit.triangle != e->exit.triangle ||
-            e1->reflection.triangle != e->reflection.triangle || e2->reflection.triangle != e->reflection.triangle)
+        if (!e1 || !e2 || e1->exit.primitive != e->exit.primitive || e2->exit.primitive != e->exit.primitive ||
+            e1->reflection.primitive != e->reflection.primitive || e2->reflection.primitive != e->reflection.primitive)
             continue;
         const float fd = glm::length(glm::cross(e1->exterior - e->exterior, e2->exterior - e->exterior)) / (h * h);
         CHECK(e->jacobian == Approx(fd).epsilon(0.05));

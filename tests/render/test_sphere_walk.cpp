@@ -3,6 +3,7 @@
 // bright objects against Chandrasekhar's exact half-space solution and
 // against collision-by-collision tracking, in bounded time.
 
+#include "jade/geometry/mesh_accel.h"
 #include "jade/core/chandrasekhar.h"
 #include "jade/core/random.h"
 #include "jade/core/sampling.h"

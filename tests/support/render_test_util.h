@@ -18,7 +18,7 @@ namespace jade_test {
 
 // The object `accel` filled with `medium` behind a boundary of `mode`,
 // under a constant environment `env`; the light is the caller's.
-inline jade::Scene basic_scene(const jade::MeshAccel& accel, const jade::Medium* medium, jade::BoundaryMode mode,
+inline jade::Scene basic_scene(const jade::Boundary& accel, const jade::Medium* medium, jade::BoundaryMode mode,
                                jade::Spectrum env) {
     jade::Scene s;
     s.boundary = &accel;

@@ -20,6 +20,9 @@ namespace jade {
 struct RenderJob {
     // Scene
     std::string mesh;                          // .obj / .gltf / .glb
+    // Or an analytic sphere, centre x, y, z and radius (Mitsuba's and pbrt's
+    // `sphere` shape; geometry/sphere_boundary.h).
+    std::optional<std::array<float, 4>> sphere;
     bool flat_normals = false;                 // shade with face normals
     bool allow_open = false;                   // render a badly open mesh anyway
     std::string volume;                        // .vdb: a jaderender volume or foreign grids

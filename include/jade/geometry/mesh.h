@@ -50,5 +50,7 @@ void compute_vertex_normals(TriangleMesh& mesh);
 // The cube the material volume fills around a mesh (docs/design.md, "Units"): centred on the
 // bounding box, side = its longest extent.
 Cube bounding_cube(const TriangleMesh& mesh);
+// The same about a box (an analytic shape's).
+Cube bounding_cube(const Bounds3& bounds);
 
 }  // namespace jade

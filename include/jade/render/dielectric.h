@@ -16,7 +16,7 @@
 // reaches a light crosses the boundary in and out equally often and the
 // factors cancel exactly.
 
-#include "jade/geometry/mesh_accel.h"
+#include "jade/geometry/boundary.h"
 
 #include <glm/vec3.hpp>
 

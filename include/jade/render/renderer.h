@@ -71,13 +71,14 @@ struct PixelBounds {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-// The pixels whose camera rays can meet the mesh: the film's rectangle about
-// the projections of its vertices (a ray meets a triangle only within the
-// projection of its corners), widened by a pixel on every side against
-// rounding; the whole film when a vertex lies on or behind the camera's
-// plane, empty when the mesh has no vertex. A pixel outside it sees only the
-// backdrop, which a render adds without tracing.
-PixelBounds pixels_seeing(const PinholeCamera& camera, const TriangleMesh& mesh);
+// The pixels whose camera rays can meet a surface held in the convex hull of
+// `hull` (Boundary::hull_points: a mesh's vertices, a sphere's box): the
+// film's rectangle about the points' projections (a ray meets the hull only
+// within the projection of its corners), widened by a pixel on every side
+// against rounding; the whole film when a point lies on or behind the
+// camera's plane, empty when there is no point. A pixel outside it sees only
+// the backdrop, which a render adds without tracing.
+PixelBounds pixels_seeing(const PinholeCamera& camera, const std::vector<glm::vec3>& hull);
 
 // One piece of a render: the samples `samples` of the pixels in `bounds`, in
 // a film of the whole image's size (other pixels hold no sample). Pieces

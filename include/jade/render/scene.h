@@ -7,7 +7,7 @@
 #include "jade/render/dielectric.h"
 #include "jade/render/light.h"
 #include "jade/render/medium.h"
-#include "jade/geometry/mesh_accel.h"
+#include "jade/geometry/boundary.h"
 #include "jade/render/phase_function.h"
 
 #include <glm/geometric.hpp>
@@ -17,7 +17,7 @@
 namespace jade {
 
 struct Scene {
-    const MeshAccel* boundary = nullptr;   // the object's closed surface
+    const Boundary* boundary = nullptr;    // the object's closed surface (a mesh or a sphere)
     const Medium* medium = nullptr;        // what fills it (null: nothing, a glass shell)
     BoundaryParams interface;              // split / fresnel / none, IOR, specular
     PhaseFunction phase;

@@ -42,12 +42,12 @@ std::optional<RefractedExit> refracted_exit(const Scene& scene, const glm::vec3&
 
 // The walk's seed: the target direction followed from p to where it meets
 // the surface (the probe, one ray query), refracted inward there; exact on a
-// flat surface. Also the triangle met, where the seed's own ray most often
+// flat surface. Also the primitive met (a triangle), where the seed's own ray most often
 // lands too, and how far the probe went. None when the probe meets no
 // surface facing the target.
 struct RefractionSeed {
     glm::vec3 direction{0.f};
-    std::uint32_t triangle = 0;
+    std::uint32_t primitive = 0;
     float probe_distance = 0.f;
 };
 std::optional<RefractionSeed> refraction_seed(const Scene& scene, const glm::vec3& p, const glm::vec3& target);

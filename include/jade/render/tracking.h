@@ -106,7 +106,7 @@ Spectrum sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3&
 // when the caller must go on to the boundary with a ray query from o.
 constexpr int kMaxClearanceSteps = 8;
 template <typename Stretch>
-bool advance_within_clearance(const MeshAccel& boundary, glm::vec3& o, const glm::vec3& d,
+bool advance_within_clearance(const Boundary& boundary, glm::vec3& o, const glm::vec3& d,
                               Stretch&& stretch) {
     for (int step = 0; step < kMaxClearanceSteps; ++step) {
         const float r = boundary.clearance(o);
