@@ -12,6 +12,11 @@ namespace jade {
 
 namespace {
 
+// How far inside (as a share of r²) both ends of a segment must lie for
+// the float test to skip the exact query: float's rounding of |p − c|² is
+// some 1e-7 of it.
+constexpr float kInsideMargin = 1e-4f;
+
 float sign_of(float x) { return x < 0.f ? -1.f : 1.f; }
 
 // The unit normal in two numbers (RayHit's u, v): its octahedral
@@ -58,6 +63,15 @@ SphereBoundary::SphereBoundary(const glm::vec3& centre, float radius) : centre_(
 // surface) instead of cancelling −b against √h.
 std::optional<RayHit> SphereBoundary::intersect_ray(const glm::vec3& o, const glm::vec3& d, float tmin,
                                                     float tmax) const {
+    // A segment from inside whose end lies inside too crosses nothing (the
+    // sphere is convex): most free flights are asked only this, in float,
+    // with a margin far above float's rounding so that no crossing is missed.
+    if (tmax < std::numeric_limits<float>::infinity()) {
+        const float r2 = radius_ * radius_;
+        const glm::vec3 from = o - centre_, to = from + tmax * d;
+        if (glm::dot(from, from) < r2 * (1.f - kInsideMargin) && glm::dot(to, to) < r2 * (1.f - kInsideMargin))
+            return std::nullopt;
+    }
     const glm::dvec3 oc = glm::dvec3(o) - glm::dvec3(centre_);
     const glm::dvec3 dd(d);
     const double b = glm::dot(oc, dd);

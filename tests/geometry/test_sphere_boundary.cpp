@@ -145,3 +145,33 @@ TEST_CASE("the analytic sphere's normal turns as its differential says", "[geome
         }
     }
 }
+
+TEST_CASE("the analytic sphere's bounded queries: a segment meets the surface exactly when the ray does within it",
+          "[geometry][sphere]") {
+    // Free flights ask with a finite tmax, and segments that end inside are
+    // answered by a float test: it must never miss a crossing, also for
+    // segments ending just past the surface.
+    const glm::vec3 c(0.3f, -0.2f, 0.1f);
+    const SphereBoundary s(c, 1.5f);
+    SplitMix64 rng(19);
+    int crossing = 0, inside = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const glm::vec3 o = c + 1.5f * std::cbrt(float(rng.uniform())) *
+                                    uniform_sphere(float(rng.uniform()), float(rng.uniform()));
+        const glm::vec3 d = uniform_sphere(float(rng.uniform()), float(rng.uniform()));
+        const auto ray = s.intersect(o, d, 0.f, kInf);
+        REQUIRE(ray);
+        // Segments ending near the exit: within 1e-3 of it on either side, or anywhere.
+        const float tmax = i % 2 ? ray->t * (1.f + 1e-3f * (2.f * float(rng.uniform()) - 1.f))
+                                 : 3.f * float(rng.uniform());
+        // (At tmax equal to the hit's float distance the double root decides.)
+        if (std::abs(tmax - ray->t) <= 1e-6f * ray->t) continue;
+        const auto seg = s.intersect(o, d, 0.f, tmax);
+        CHECK(seg.has_value() == (ray->t < tmax));
+        if (seg) CHECK(seg->t == ray->t);
+        (ray->t < tmax ? crossing : inside) += 1;
+        CHECK(s.occluded(o, d, 0.f, tmax) == (ray->t < tmax));
+    }
+    CHECK(crossing > 30000);
+    CHECK(inside > 30000);
+}
