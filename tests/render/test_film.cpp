@@ -46,9 +46,9 @@ TEST_CASE("the film keeps each pixel's mean, variance of the mean and coverage",
 // Truth from x87 extended precision: a float times 2^64 is exact in a long
 // double's 64-bit significand, and libgcc's long double conversion to
 // __int128 is a path of its own.
-TEST_CASE("the film's sums hold each sample times 2^64 rounded to the nearest integer exactly",
+TEST_CASE("the film's sums hold each sample (and its square) times 2^64 rounded to the nearest integer exactly",
           "[film]") {
-    auto exact = [](float v) {
+    auto exact = [](double v) {  // a float, or a float's square (exact in a double)
         const long double x = std::ldexp(static_cast<long double>(v), 64);
         const long double limit = std::ldexp(1.0L, 126);  // the film clamps at 2^62
         return __int128(std::nearbyintl(std::clamp(x, -limit, limit)));
@@ -67,6 +67,7 @@ TEST_CASE("the film's sums hold each sample times 2^64 rounded to the nearest in
         f.add_sample(0, 0, Spectrum(v, 0.f, 0.f), false);
         INFO("v = " << v);
         CHECK(f.sums()[0] == exact(v));
+        CHECK(f.sums_of_squares()[0] == exact(double(v) * double(v)));
         CHECK(f.sums()[1] == 0);
     }
 }
