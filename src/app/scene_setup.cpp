@@ -48,15 +48,16 @@ constexpr int kSphereTessellation = 6;
 // The job's analytic sphere and its tessellation.
 void prepare_sphere(const std::array<float, 4>& s, PreparedScene& prep) {
     const glm::vec3 centre(s[0], s[1], s[2]);
-    if (!(s[3] > 0.f) || !std::isfinite(s[3]) || !std::isfinite(centre.x) || !std::isfinite(centre.y) ||
-        !std::isfinite(centre.z))
-        throw Error("--sphere needs a finite centre and a positive radius");
+    try {
+        prep.boundary = std::make_unique<SphereBoundary>(centre, s[3]);
+    } catch (const Error& e) {
+        throw Error(std::string("--sphere: ") + e.what());
+    }
     prep.mesh = icosphere(kSphereTessellation, s[3]);
     for (glm::vec3& p : prep.mesh.positions) p += centre;
     // Held to a mesh's limits of size and place (single precision).
     prep.mesh.path = "--sphere";
     validate_mesh(prep.mesh);
-    prep.boundary = std::make_unique<SphereBoundary>(centre, s[3]);
 }
 
 // The job's mesh, checked (closed, outward) and its BVH built.
