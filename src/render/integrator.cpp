@@ -415,10 +415,7 @@ std::optional<Integrator::Flight> Integrator::draw_flight(PathState& s, std::opt
         if (t > from) surface = scene_.boundary->intersect_ray(s.o, s.d, from, t);
     }
     const float travelled = flown + (surface ? surface->t : t);
-    if (std::isfinite(travelled)) {
-        const Spectrum T = majorant_transmittance(mu, travelled);
-        s.w.scale(T / T[s.hero]);
-    }
+    if (std::isfinite(travelled)) s.w.scale(majorant_transmittance_ratio(mu, travelled, s.hero));
     if (surface) {
         hit = scene_.boundary->surface(*surface);
         return Flight::Reached;

@@ -13,7 +13,7 @@ namespace {
 // takes, so it is independent of every sample's numbers.
 constexpr std::uint64_t kHeroStart = ~std::uint64_t(0);
 
-std::uint32_t reverse_bits(std::uint32_t x) {
+constexpr std::uint32_t reverse_bits(std::uint32_t x) {
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
     x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
@@ -22,15 +22,17 @@ std::uint32_t reverse_bits(std::uint32_t x) {
 }
 
 // Owen's nested uniform scrambling of a point's 32 digits by a hash
-// (Burley 2020, after Laine & Karras 2011). In the bit-reversed value each
-// bit is flipped by a function of the seed and the bits below it, which are
-// the value's bits above it, so every dyadic interval is permuted as a
-// whole: a net stays a net of the same quality, and each step below is a
-// bijection of the 32-bit words (x ^= x·c with c even leaves bit k a
-// function of bits ≤ k), so a point is uniform when the seed is.
-std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
-    std::uint32_t x = reverse_bits(v);
-    x += seed;
+// (Burley 2020, after Laine & Karras 2011), given the point bit-reversed.
+// In the bit-reversed value each bit is flipped by a function of the seed
+// and the bits below it, which are the value's bits above it, so every
+// dyadic interval is permuted as a whole: a net stays a net of the same
+// quality, and each step below is a bijection of the 32-bit words (x ^= x·c
+// with c even leaves bit k a function of bits ≤ k), so a point is uniform
+// when the seed is. The points below are made bit-reversed (the van der
+// Corput point reversed is its index; Sobol's from reversed columns), which
+// saves reversing them twice.
+std::uint32_t owen_scramble_reversed(std::uint32_t reversed, std::uint32_t seed) {
+    std::uint32_t x = reversed + seed;
     x ^= x * 0x6C50B47Cu;
     x ^= x * 0xB82F1E52u;
     x ^= x * 0xC7AFE638u;
@@ -43,9 +45,9 @@ std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
 // degree s (inner coefficients a_1 … a_{s-1} in the bits of `inner`, a_1
 // highest) and its initial direction numbers m_1 … m_s (Bratley & Fox
 // 1988's recurrence: V_k = a_1 V_{k-1} ⊕ … ⊕ a_{s-1} V_{k-s+1} ⊕ V_{k-s} ⊕
-// V_{k-s} >> s).
+// V_{k-s} >> s), each stored bit-reversed.
 using SobolColumns = std::array<std::uint32_t, 32>;
-constexpr SobolColumns sobol_columns(int s, std::uint32_t inner, std::array<std::uint32_t, 2> m) {
+constexpr SobolColumns sobol_columns_reversed(int s, std::uint32_t inner, std::array<std::uint32_t, 2> m) {
     SobolColumns v{};
     for (int k = 0; k < 32; ++k) {
         if (k < s) {
@@ -57,15 +59,17 @@ constexpr SobolColumns sobol_columns(int s, std::uint32_t inner, std::array<std:
             if ((inner >> (s - 1 - i)) & 1u) x ^= v[std::size_t(k - i)];
         v[std::size_t(k)] = x;
     }
+    for (auto& column : v) column = reverse_bits(column);
     return v;
 }
 
 // Sobol's second and third dimensions (Joe & Kuo 2008: x + 1 with m = 1,
 // and x² + x + 1 with m = 1, 3); the first is the van der Corput sequence.
-constexpr std::array<SobolColumns, 2> kSobolDirection = {sobol_columns(1, 0u, {1u, 0u}),
-                                                         sobol_columns(2, 1u, {1u, 3u})};
+constexpr std::array<SobolColumns, 2> kSobolDirectionReversed = {sobol_columns_reversed(1, 0u, {1u, 0u}),
+                                                                 sobol_columns_reversed(2, 1u, {1u, 3u})};
 
-std::uint32_t sobol(const SobolColumns& v, std::uint32_t j) {
+// Point j of a dimension, bit-reversed.
+std::uint32_t sobol_reversed(const SobolColumns& v, std::uint32_t j) {
     std::uint32_t x = 0;
     for (std::size_t k = 0; j != 0; j >>= 1, ++k)
         if (j & 1u) x ^= v[k];
@@ -95,9 +99,9 @@ FirstNumbers PixelSampler::first_numbers(std::uint64_t sample) const {
     const auto& scramble = scramble_[std::size_t(sample_replicate(sample))];
     const auto j = std::uint32_t(sample / 3 / kReplicates);
     FirstNumbers u;
-    u.flight = to_uniform(owen_scramble(reverse_bits(j), scramble[0]));
+    u.flight = to_uniform(owen_scramble_reversed(j, scramble[0]));
     for (std::size_t d = 0; d < 2; ++d)
-        u.direction[d] = to_uniform(owen_scramble(sobol(kSobolDirection[d], j), scramble[d + 1]));
+        u.direction[d] = to_uniform(owen_scramble_reversed(sobol_reversed(kSobolDirectionReversed[d], j), scramble[d + 1]));
     return u;
 }
 

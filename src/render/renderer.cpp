@@ -66,6 +66,9 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
     constexpr int kPacket = Boundary::kPacket;
     const std::uint64_t pixel = std::uint64_t(y) * camera.width() + x;
     const PixelSampler sampler(settings.seed, pixel);
+    // The three samples of a turn of the heroes share their first numbers.
+    std::uint64_t numbers_turn = ~std::uint64_t(0);
+    FirstNumbers numbers;
     for (int first = samples.first; first < samples.last; first += kPacket) {
         const int n = std::min(kPacket, samples.last - first);
         std::array<SampleStream, kPacket> rng;
@@ -82,8 +85,12 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
             const auto k = std::size_t(i);
             const auto sample = std::uint64_t(first + i);
             const int hero = sampler.hero(sample);
-            const PathSample ps = integrator.trace(camera.origin(), direction[k], hit[k], hero,
-                                                   sampler.first_numbers(sample), rng[k], counters);
+            if (sample / 3 != numbers_turn) {
+                numbers_turn = sample / 3;
+                numbers = sampler.first_numbers(sample);
+            }
+            const PathSample ps =
+                integrator.trace(camera.origin(), direction[k], hit[k], hero, numbers, rng[k], counters);
             const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
             const int replicate = sample_replicate(sample);
             out.of(replicate).add_sample(x, y, ps.radiance + behind, ps.hit_object, hero, replicate);

@@ -55,6 +55,16 @@ inline Spectrum majorant_transmittance(const Spectrum& mu, float dt) {
     return T;
 }
 
+// T_maj / T_maj[h] over dt, the weight a flight drawn by channel h's
+// majorant gives each channel: one exponential of the majorants'
+// difference per other channel, and exactly 1 for h.
+inline Spectrum majorant_transmittance_ratio(const Spectrum& mu, float dt, int h) {
+    Spectrum ratio(1.f);
+    for (int c = 0; c < 3; ++c)
+        if (c != h && mu[c] != mu[h]) ratio[c] = std::exp((mu[h] - mu[c]) * dt);
+    return ratio;
+}
+
 // Which majorant channel draws the tentative collisions: a path's hero
 // channel (its own majorant, so a homogeneous medium has no null collisions
 // in it; Kutz et al. 2017, spectral tracking as in pbrt-v4 and Mitsuba), or
