@@ -101,7 +101,8 @@ FirstNumbers PixelSampler::first_numbers(std::uint64_t sample) const {
     FirstNumbers u;
     u.flight = to_uniform(owen_scramble_reversed(j, scramble[0]));
     for (std::size_t d = 0; d < 2; ++d)
-        u.direction[d] = to_uniform(owen_scramble_reversed(sobol_reversed(kSobolDirectionReversed[d], j), scramble[d + 1]));
+        u.direction[d] =
+            to_uniform(owen_scramble_reversed(sobol_reversed(kSobolDirectionReversed[d], j), scramble[d + 1]));
     return u;
 }
 
