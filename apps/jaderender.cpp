@@ -451,7 +451,7 @@ int run_render(RenderFlags& f) {
     for (const auto& w : r.warnings) std::fprintf(stderr, "jaderender: warning: %s\n", w.c_str());
     const jade::RenderResult& rr = r.render;
     const jade::PassRecord& last = rr.passes.back();
-    double samples = double(j.width) * j.height * last.spp;
+    double samples = double(j.width) * j.height * last.mean_spp;
     if (piece) {
         const jade::PixelBounds& b = piece->pixels;
         samples = double(b.x1 - b.x0) * (b.y1 - b.y0) * last.spp;
@@ -460,8 +460,8 @@ int run_render(RenderFlags& f) {
                     piece->samples.first, piece->samples.last, j.settings.spp, b.x0, b.x1, b.y0, b.y1, j.width,
                     j.height, rr.seconds, jade::format_relative_error(last.estimated_error).c_str());
     } else {
-        std::printf("render: %dx%d, %d spp in %.2f s (stopped by %s); estimated relative error %s", j.width,
-                    j.height, last.spp, rr.seconds, rr.stopped_by.c_str(),
+        std::printf("render: %dx%d, %s in %.2f s (stopped by %s); estimated relative error %s", j.width,
+                    j.height, jade::format_spp(last).c_str(), rr.seconds, rr.stopped_by.c_str(),
                     jade::format_relative_error(last.estimated_error).c_str());
     }
     if (last.rmse >= 0) std::printf(", RMSE %.5f, relMSE %.3g vs reference", last.rmse, last.rel_mse);

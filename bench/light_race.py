@@ -27,8 +27,11 @@ def load(path):
 
 
 def spp(log_path):
-    found = re.findall(r"(\d+) spp in", open(log_path).read())
-    return found[-1] if found else "?"
+    """Samples per pixel on average (a pass cut by the time budget leaves
+    some pixels a sample short: the log gives the fewest and the mean)."""
+    text = open(log_path).read()
+    found = re.findall(r"([\d.]+) on average\) in|(\d+) spp in", text)
+    return found[-1][0] or found[-1][1] if found else "?"
 
 
 def rel_mse(stem, first):
@@ -51,7 +54,7 @@ for label, case, estimator in rows:
     mean = float(np.mean(per_pair))
     if estimator == "off":
         off[case] = mean
-    counts = [int(n) for n in (spp(f"{stem}{seed}.log") for seed in range(1, 2 * pairs + 1)) if n != "?"]
+    counts = [round(float(n)) for n in (spp(f"{stem}{seed}.log") for seed in range(1, 2 * pairs + 1)) if n != "?"]
     spread = f"{min(counts)}-{max(counts)}" if counts else "?"
     print(f"{label:>6} {estimator:>9} {mean:9.5f} {off[case] / mean:8.1f} {spread:>9}  "
           + " ".join(f"{v:.5f}" for v in per_pair))

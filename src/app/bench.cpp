@@ -136,11 +136,11 @@ int run_render_benchmark(const RenderBenchOptions& o) {
         std::fflush(stdout);
     });
     const PassRecord& last = r.passes.back();
-    const double samples = double(o.width) * o.height * last.spp;
+    const double samples = double(o.width) * o.height * last.mean_spp;
     const PathCounters& c = r.counters;
     const double collisions = double(c.real_collisions + c.null_collisions);
-    std::printf("reached %.4f after %.2f s (%d spp; stopped by %s)\n", last.estimated_error, r.seconds,
-                last.spp, r.stopped_by.c_str());
+    std::printf("reached %.4f after %.2f s (%s; stopped by %s)\n", last.estimated_error, r.seconds,
+                format_spp(last).c_str(), r.stopped_by.c_str());
     std::printf("samples/s %.3g, path vertices/s %.3g, vertices per path %.1f\n", samples / r.seconds,
                 double(c.vertices()) / r.seconds, double(c.vertices()) / double(c.paths));
     std::printf("collisions: %.3g real, %.3g null (%.1f%% null); capped paths %llu\n",

@@ -119,6 +119,7 @@ void render_piece(const RenderJob& job, const PieceRange& piece, const Scene& sc
     r.stopped_by = "range";
     PassRecord rec;
     rec.spp = piece.samples.last - piece.samples.first;
+    rec.mean_spp = double(rec.spp);
     rec.seconds = r.seconds;
     rec.estimated_error = r.film.estimated_relative_error();
     r.passes.push_back(rec);

@@ -216,7 +216,7 @@ nlohmann::json final_render_json(const PipelineReport& in) {
     const RenderResult& render = in.result.final_render;
     const PassRecord& last = render.passes.back();
     return {{"width", in.replay.width}, {"height", in.replay.height},
-            {"spp", last.spp}, {"seconds", render.seconds},
+            {"spp", last.spp}, {"mean_spp", last.mean_spp}, {"seconds", render.seconds},
             {"estimated_relative_error", last.estimated_error},
             {"stopped_by", render.stopped_by},
             {"capped_paths", render.counters.capped_paths},
@@ -343,7 +343,7 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
 // the photo, the stages' seconds and the files written.
 void print_render_summary(const PipelineResult& r) {
     const PassRecord& last = r.final_render.passes.back();
-    std::printf("final render: %d spp in %.1f s, estimated relative error %.4f\n", last.spp,
+    std::printf("final render: %s in %.1f s, estimated relative error %.4f\n", format_spp(last).c_str(),
                 r.final_render.seconds, last.estimated_error);
     const Appearance& look = r.final_look;
     std::printf("final render against the photo: A (%.1f, %.1f, %.1f) / (%.1f, %.1f, %.1f), S (%.1f, %.1f, %.1f) / "

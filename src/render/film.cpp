@@ -163,6 +163,13 @@ int Film::fewest_samples() const {
     return count_.empty() ? 0 : int(*std::min_element(count_.begin(), count_.end()));
 }
 
+double Film::mean_samples() const {
+    if (count_.empty()) return 0.0;
+    double total = 0.0;
+    for (const auto n : count_) total += double(n);
+    return total / double(count_.size());
+}
+
 void Film::add_sample(int x, int y, const Spectrum& radiance, bool hit_object, int stratum, int replicate) {
     if (stratum < 0 || stratum >= kStrata) throw Error("internal: a film sample's stratum is out of range");
     if (replicate < 0 || replicate >= kReplicates) throw Error("internal: a film sample's replicate is out of range");

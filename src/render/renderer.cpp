@@ -274,6 +274,7 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
         PassRecord rec;
         rec.pass = pass;
         rec.spp = done;
+        rec.mean_spp = cut ? result.film.mean_samples() : double(done);
         rec.seconds = clock.seconds();
         rec.estimated_error = result.film.estimated_relative_error();
         if (settings.reference) {
@@ -349,15 +350,25 @@ SplitFilms render_quarters(const Scene& scene, const PinholeCamera& camera, cons
 }
 
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes) {
-    std::string text = "pass,spp,seconds,estimated_rel_error,rmse,rel_mse\n";
+    std::string text = "pass,spp,seconds,estimated_rel_error,rmse,rel_mse,mean_spp\n";
     char line[256];
     for (const PassRecord& r : passes) {
-        std::snprintf(line, sizeof line, "%d,%d,%.4f,%.6g,%s,%s\n", r.pass, r.spp, r.seconds,
+        std::snprintf(line, sizeof line, "%d,%d,%.4f,%.6g,%s,%s,%.2f\n", r.pass, r.spp, r.seconds,
                       r.estimated_error, r.rmse < 0 ? "" : std::to_string(r.rmse).c_str(),
-                      r.rel_mse < 0 ? "" : std::to_string(r.rel_mse).c_str());
+                      r.rel_mse < 0 ? "" : std::to_string(r.rel_mse).c_str(), r.mean_spp);
         text += line;
     }
     write_text_file(path, text);
+}
+
+std::string format_spp(const PassRecord& pass) {
+    char buf[64];
+    // Two decimals of the mean are what convergence.csv keeps.
+    if (pass.mean_spp > double(pass.spp) + 0.005)
+        std::snprintf(buf, sizeof buf, "at least %d spp (%.1f on average)", pass.spp, pass.mean_spp);
+    else
+        std::snprintf(buf, sizeof buf, "%d spp", pass.spp);
+    return buf;
 }
 
 }  // namespace jade

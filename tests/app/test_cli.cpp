@@ -200,7 +200,7 @@ TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV"
     // Named after the image, so that several renders can share a folder.
     const auto rows = csv_rows(dir.file("r.convergence.csv"));
     REQUIRE(rows.size() >= 3);
-    CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse");
+    CHECK(rows[0] == "pass,spp,seconds,estimated_rel_error,rmse,rel_mse,mean_spp");
     CHECK(rows.back().rfind("3,8,", 0) == 0);  // passes 0 to 3 of 1, 1, 2, 4 samples: 8 spp
     // ... and its picture beside it, as the pipeline's convergence.png.
     const jade::ImageF32 plot = jade::read_image_f32(dir.file("r.convergence.png"));

@@ -168,12 +168,30 @@ TEST_CASE("a time budget that runs out in the first pass stops it, and the pixel
     CHECK(cut.film.spp() == 0);
     REQUIRE(cut.passes.size() == 1);
     CHECK(cut.passes[0].spp == 0);
+    CHECK(cut.passes[0].mean_spp == 0.0);
     // Without a budget every pixel holds every sample; the first pass is one sample.
     settings.time_limit = 0.0;
     const RenderResult whole = render(scene, camera, settings);
     CHECK(whole.unsampled_pixels == 0u);
     CHECK(whole.film.fewest_samples() == 64);
     CHECK(whole.passes[0].spp == 1);
+    for (const PassRecord& p : whole.passes) CHECK(p.mean_spp == double(p.spp));
+    CHECK(format_spp(whole.passes.back()) == "64 spp");
+}
+
+TEST_CASE("a pass cut short by its time budget reports its fewest samples and its mean", "[render]") {
+    // The film of a cut pass: some pixels hold a sample more than others.
+    Film film(4, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x)
+            for (int k = 0; k < (x < 3 ? 3 : 2); ++k) film.add_sample(x, y, Spectrum(1.f), true, k % 3, k);
+    CHECK(film.fewest_samples() == 2);
+    CHECK(film.spp() == 3);
+    CHECK(film.mean_samples() == Approx(22.0 / 8.0));
+    PassRecord cut;
+    cut.spp = film.fewest_samples();
+    cut.mean_spp = film.mean_samples();
+    CHECK(format_spp(cut) == "at least 2 spp (2.8 on average)");
 }
 
 namespace {

@@ -39,6 +39,9 @@ public:
     // The smallest sample count of any pixel (after a pass cut short by a
     // time budget, pixels differ).
     int fewest_samples() const;
+    // The samples per pixel on average: the render's whole work, above the
+    // fewest when a pass was cut short.
+    double mean_samples() const;
 
     static constexpr int kStrata = 3;
     static constexpr int kReplicates = jade::kReplicates;

@@ -41,7 +41,8 @@ struct RenderSettings {
 // One row of convergence.csv: the image's error against run time.
 struct PassRecord {
     int pass = 0;
-    int spp = 0;                  // total samples per pixel so far
+    int spp = 0;                  // samples per pixel so far: the fewest any pixel holds
+    double mean_spp = 0.0;        // and on average (more than spp when a time budget cut the pass)
     double seconds = 0.0;         // since the render began
     double estimated_error = 0.0; // Film::estimated_relative_error (NaN before 2 spp)
     double rmse = -1.0;           // against the reference, -1 without one
@@ -126,7 +127,11 @@ SplitFilms render_halves(const Scene& scene, const PinholeCamera& camera, const 
 SplitFilms render_quarters(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                            PathCounters* counters = nullptr, Progress* progress = nullptr);
 
-// pass,spp,seconds,estimated_rel_error,rmse,rel_mse — written whole or not at all.
+// pass,spp,seconds,estimated_rel_error,rmse,rel_mse,mean_spp — written whole or not at all.
 void write_convergence_csv(const std::string& path, const std::vector<PassRecord>& passes);
+
+// A pass's samples per pixel for the console: "256 spp", or after a pass cut
+// short by a time budget "at least 256 spp (318.4 on average)".
+std::string format_spp(const PassRecord& pass);
 
 }  // namespace jade
