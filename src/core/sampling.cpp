@@ -51,6 +51,20 @@ glm::vec3 UniformCone::sample(float u1, float u2, float& pdf) const {
     return uniform_cone(axis, cos_max, u1, u2);
 }
 
+float EllipticCone::pdf(const glm::vec3& w) const {
+    const float c = glm::dot(w, axis);
+    if (!(c > 0.f)) return 0.f;
+    const float x = glm::dot(w, major) / (c * r_major), y = glm::dot(w, minor) / (c * r_minor);
+    if (!(x * x + y * y <= 1.f)) return 0.f;
+    return 1.f / (kPi * r_major * r_minor * c * c * c);
+}
+
+glm::vec3 EllipticCone::sample(float u1, float u2) const {
+    // Uniform in the unit disc (radius √u1), stretched to the ellipse.
+    const float rho = std::sqrt(u1), phi = 2.f * kPi * u2;
+    return glm::normalize(axis + (r_major * rho * std::cos(phi)) * major + (r_minor * rho * std::sin(phi)) * minor);
+}
+
 bool systematic_selected(float offset, int k, float q) {
     const double x = double(offset) + double(k) * double(q);
     return x - std::floor(x) < double(q);

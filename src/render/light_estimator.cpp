@@ -21,19 +21,23 @@ constexpr float kManifoldBelowDegrees = 10.f;
 // better at 5° (relative MSE 0.0056 against 0.0065) and the walk at 2.5°
 // (0.0077 against 0.0083).
 constexpr float kGuidedManifoldBelowDegrees = 4.f;
-// From this angular radius on, `auto` draws most one-refraction directions
-// from the guide (kWideDiscGuideShare, against half below it): the disc's
+// From this angular radius on, `auto` draws every one-refraction direction
+// from the guide where the vertex's cell has a histogram (kWideDiscGuideShare,
+// against half below it), and the cone only where it has none: the disc's
 // preimage inside (its radius over the index of refraction, about 9° here)
-// then spans more than one of the guide's 8.5° bins, so the guide draws it
-// well, and the cone's samples, each needing a probe ray, add less. The
-// cone keeps a fifth: its density is a floor inside the cone for the paths
-// that meet the light by themselves (with the guide alone the second
-// moment of their light grew fourfold). On the demo at equal time (256²,
-// 30 s, seed pairs 1–2, 3–4, 5–6) the relative MSE was 7.5 % lower at 20°,
-// 3 % lower at 15°; at 10° it was 6 % higher, at 5° the same
-// (docs/design.md, "Light guide").
+// then spans more than one of the guide's 8.5° bins, and the cell's lobe
+// (render/light_guide.h) covers it at the vertex itself, so the cone's
+// samples, each needing a probe ray, add less than they cost. The cone
+// kept 0.2 of them while the guide had its bins alone: its density was a
+// floor inside the cone for the paths that meet the light by themselves
+// (with the bins alone the second moment of their light grew fourfold). On
+// the demo at equal time (256², 30 s, seed pairs 1–2, 3–4, 5–6, one
+// sitting) the relative MSE at 20° was 0.00115 with the bins and the cone
+// at 0.2 and 0.00111 with the bins alone; in another, 0.00133 with the
+// bins and the cone at 0.2 and 0.00112 with the lobes and no cone
+// (docs/design.md, "The cells' lobes").
 constexpr float kWideDiscFromDegrees = 15.f;
-constexpr float kWideDiscGuideShare = 0.8f;
+constexpr float kWideDiscGuideShare = 1.f;
 // A delta light's light after one internal reflection is estimated at this
 // share of the vertices only (ThinnedEstimator): the two-vertex walk costs
 // about four times everything else a sample does, and that light is 0.1–0.3 %

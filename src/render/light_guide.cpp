@@ -1,5 +1,6 @@
 #include "jade/render/light_guide.h"
 
+#include "jade/core/direction_fit.h"
 #include "jade/core/random.h"
 #include "jade/core/sampling.h"
 #include "jade/core/spectrum.h"
@@ -39,6 +40,29 @@ constexpr double kFixedUnit = 4294967296.0;
 constexpr float kNeighbourShare = 0.3f;
 // Photon i draws from SampleStream(seed, i, kStream).
 constexpr std::uint64_t kStream = 0x4c4947ull;
+// The sums of a cell's lobe (core/direction_fit.h) are integers in units
+// of 2^-36, added as two's complement in unsigned words: a sum of
+// products of weights below 2 and positions within half a cell stays far
+// below 2^63 units for millions of stretches.
+constexpr double kLobeUnit = 68719476736.0;
+
+// Whether a chain's histograms get a lobe: the light straight in and the
+// light mirrored off the outside, whose directions change fastest across a
+// cell (docs/design.md, "The cells' lobes").
+bool has_lobe(int chain) {
+    return chain == LightGuide::chain_index(SpecularChain::Refraction) ||
+           chain == LightGuide::chain_index(SpecularChain::RefractionReflection);
+}
+
+// The largest float below 1: a number rescaled into [0, 1) stays there.
+constexpr float kOneBelow = 0x1.fffffep-1f;
+
+// Where p lies in its cell of the grid, in cell lengths from the cell's
+// centre (each coordinate in [−0.5, 0.5)): the lobes' positions.
+glm::vec3 cell_offset(const glm::vec3& p, const glm::vec3& origin, float cell_size) {
+    const glm::vec3 q = (p - origin) / cell_size;
+    return q - glm::floor(q) - glm::vec3(0.5f);
+}
 
 // The cell of a grid (dims cells of side cell_size from origin) holding p,
 // x fastest; −1 outside.
@@ -91,6 +115,7 @@ struct Deposits {
     std::array<int, 3> dims;
     float sigma;  // σ̄
     LazySums& sums;
+    LazySums& lobe_sums;  // DirectionSums::kCount per histogram, of the chains with lobes
 
     // The stretch o + t·d, t ∈ [0, length), of light of weight `weight`
     // that has come `travelled` through the medium, in the histograms of
@@ -104,6 +129,8 @@ struct Deposits {
         // one store per cell crossed, not per step.
         long cell = -1;
         std::uint64_t pending = 0;
+        StretchSums stretch;  // the lobe's sums of the steps in `cell`
+        const bool lobe = has_lobe(chain);
         bool lit = true;
         for (float s = 0.f; s < length; s += step) {
             const float ds = std::min(step, length - s);
@@ -112,15 +139,22 @@ struct Deposits {
                 lit = false;
                 break;
             }
-            const long c = grid_cell(o + (s + 0.5f * ds) * d, origin, cell_size, dims);
+            const glm::vec3 x = o + (s + 0.5f * ds) * d;
+            const long c = grid_cell(x, origin, cell_size, dims);
             if (c != cell) {
                 store(cell, chain, bin, pending);
+                if (lobe) store_lobe(cell, chain, -d, stretch);
                 cell = c;
                 pending = 0;
+                stretch = StretchSums{};
             }
-            if (c >= 0) pending += std::uint64_t(double(a) * double(ds / cell_size) * kFixedUnit);
+            if (c < 0) continue;
+            const double q = double(a) * double(ds / cell_size);
+            pending += std::uint64_t(q * kFixedUnit);
+            if (lobe) stretch.add(q, glm::dvec3(cell_offset(x, origin, cell_size)));
         }
         store(cell, chain, bin, pending);
+        if (lobe) store_lobe(cell, chain, -d, stretch);
         travelled += length;
         return lit && weight * std::exp(-sigma * travelled) >= kSmallestWeight;
     }
@@ -128,6 +162,16 @@ struct Deposits {
     // q units of light in bin `bin` of cell c's histogram of `chain`.
     void store(long c, int chain, int bin, std::uint64_t q) const {
         if (c >= 0 && q > 0) sums.add(std::size_t(c) * LightGuide::kChains + std::size_t(chain), std::size_t(bin), q);
+    }
+    // A stretch's part in cell c, of direction w toward the light, in the
+    // sums of that cell's lobe.
+    void store_lobe(long c, int chain, const glm::vec3& w, const StretchSums& stretch) const {
+        if (c < 0 || !(stretch.q > 0.0)) return;
+        DirectionSums part;
+        part.add(stretch, w);
+        const std::size_t h = std::size_t(c) * LightGuide::kChains + std::size_t(chain);
+        for (int i = 0; i < DirectionSums::kCount; ++i)
+            lobe_sums.add(h, std::size_t(i), std::uint64_t(std::llround(part.v[std::size_t(i)] * kLobeUnit)));
     }
 };
 
@@ -339,6 +383,21 @@ void trace_photons(const Scene& scene, std::uint64_t seed, std::uint32_t photons
                       });
 }
 
+// The lobe of every histogram whose sums hold light and fit one
+// (core/direction_fit.h), with its index in the grid's histograms.
+std::vector<std::pair<std::size_t, DirectionLobe>> fitted_lobes(const LazySums& lobe_sums, std::size_t histograms) {
+    std::vector<std::pair<std::size_t, DirectionLobe>> lobes;
+    for (std::size_t h = 0; h < histograms; ++h) {
+        const std::atomic<std::uint64_t>* from = lobe_sums.sums(h);
+        if (!from) continue;
+        DirectionSums sums;
+        for (int i = 0; i < DirectionSums::kCount; ++i)
+            sums.v[std::size_t(i)] = double(std::int64_t(from[i].load())) / kLobeUnit;
+        if (const std::optional<DirectionLobe> lobe = fit_direction_lobe(sums)) lobes.emplace_back(h, *lobe);
+    }
+    return lobes;
+}
+
 }  // namespace
 
 std::uint32_t light_guide_photons(double camera_samples) {
@@ -371,10 +430,13 @@ LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideS
     // reached and of their neighbours, each at its place in `own`.
     std::vector<std::int32_t> slot(cells * kChains, -1);
     std::vector<float> own;
+    std::vector<std::pair<std::size_t, DirectionLobe>> lobes;  // by histogram of the grid, in its order
     {
-        LazySums sums(slot.size(), nb);
-        const Deposits deposits{bins_, origin_, cell_size_, dims_, min_component(scene.medium->majorant()), sums};
+        LazySums sums(slot.size(), nb), lobe_sums(slot.size(), DirectionSums::kCount);
+        const Deposits deposits{bins_,  origin_, cell_size_, dims_, min_component(scene.medium->majorant()),
+                                sums,   lobe_sums};
         trace_photons(scene, seed, settings.photons, deposits);
+        lobes = fitted_lobes(lobe_sums, slot.size());
         const std::vector<std::uint8_t> near = near_light(sums, dims_);
         std::size_t places = 0;
         for (std::size_t h = 0; h < slot.size(); ++h)
@@ -388,6 +450,9 @@ LightGuide::LightGuide(const Scene& scene, std::uint64_t seed, const LightGuideS
     }
     std::vector<float> neighbours = neighbourhood_means(own, slot, dims_, nb);
     Histograms made = normalised_histograms(slot, own, std::move(neighbours), nb);
+    lobes_.resize(made.share.size());
+    for (auto& [h, lobe] : lobes)
+        if (made.slot[h] >= 0) lobes_[std::size_t(made.slot[h])] = lobe;
     slot_ = std::move(made.slot);
     share_ = std::move(made.share);
     cdf_ = std::move(made.cdf);
@@ -416,7 +481,29 @@ int LightGuide::chain_index(SpecularChain chain) {
 // The first bin whose cumulative share exceeds u1, as one search over the
 // whole cdf would find it: the rows before the one found end at or below
 // u1, and the row found ends above it.
-glm::vec3 LightGuide::sample(int h, float u1, float u2, float u3) const {
+std::optional<EllipticCone> LightGuide::lobe(int h, const glm::vec3& p) const {
+    const std::optional<DirectionLobe>& lobe = lobes_[std::size_t(h)];
+    if (!lobe) return std::nullopt;
+    return lobe->cone(cell_offset(p, origin_, cell_size_));
+}
+
+// From the lobe at p with probability kLobeShare (u1 below it, rescaled),
+// otherwise from the bins.
+glm::vec3 LightGuide::sample(int h, const glm::vec3& p, float u1, float u2, float u3) const {
+    if (const std::optional<EllipticCone> cone = lobe(h, p)) {
+        if (u1 < kLobeShare) return cone->sample(u1 / kLobeShare, u2);
+        u1 = std::min((u1 - kLobeShare) / (1.f - kLobeShare), kOneBelow);
+    }
+    return sample_bins(h, u1, u2, u3);
+}
+
+float LightGuide::pdf(int h, const glm::vec3& p, const glm::vec3& w) const {
+    const float bins = bins_pdf(h, w);
+    const std::optional<EllipticCone> cone = lobe(h, p);
+    return cone ? (1.f - kLobeShare) * bins + kLobeShare * cone->pdf(w) : bins;
+}
+
+glm::vec3 LightGuide::sample_bins(int h, float u1, float u2, float u3) const {
     const std::ptrdiff_t n = bins_.n;
     const auto rows = row_ends_.begin() + std::ptrdiff_t(h) * n;
     const std::ptrdiff_t row = std::min<std::ptrdiff_t>(std::upper_bound(rows, rows + n, u1) - rows, n - 1);
@@ -425,7 +512,7 @@ glm::vec3 LightGuide::sample(int h, float u1, float u2, float u3) const {
     return bins_.direction(int(row * n + column), u2, u3);
 }
 
-float LightGuide::pdf(int h, const glm::vec3& w) const {
+float LightGuide::bins_pdf(int h, const glm::vec3& w) const {
     const std::size_t first = std::size_t(h) * std::size_t(bins_.count());
     const int b = bins_.index(w);
     const float share = cdf_[first + std::size_t(b)] - (b > 0 ? cdf_[first + std::size_t(b) - 1] : 0.f);
@@ -433,7 +520,8 @@ float LightGuide::pdf(int h, const glm::vec3& w) const {
 }
 
 std::size_t LightGuide::memory_bytes() const {
-    return slot_.size() * sizeof(std::int32_t) + (cdf_.size() + row_ends_.size() + share_.size()) * sizeof(float);
+    return slot_.size() * sizeof(std::int32_t) + (cdf_.size() + row_ends_.size() + share_.size()) * sizeof(float) +
+           lobes_.size() * sizeof(std::optional<DirectionLobe>);
 }
 
 }  // namespace jade

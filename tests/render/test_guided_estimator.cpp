@@ -1,7 +1,8 @@
 // The guided estimator of the light through one refraction
 // (render/light_estimators/guided.h), mixed with the cone at half its
-// samples, at a fifth (a wide disc's default), and alone with the cone only
-// where the guide has no histogram:
+// samples, at a fifth, and alone with the cone only where the guide has no
+// histogram (a wide disc's default), the guide's own directions half from
+// its bins and half from the cell's lobe:
 // from vertices inside a sphere its estimate of the light arriving by one
 // refraction must equal that integral over all interior directions, drawn
 // uniformly and followed the same way; and the density of each sample must
@@ -70,6 +71,11 @@ TEST_CASE("the guided one-refraction estimator integrates the refracted light wi
             return double(ls.radiance.x * ls.transmittance.x) * 4.0 * kPiD;
         });
         REQUIRE(truth.mean > 0.0);
+        // The vertex's cell has a lobe (render/light_guide.h): half the
+        // guide's directions come from it, so its density is checked too.
+        const int h = guide->histogram(p, SpecularChain::Refraction);
+        REQUIRE(h >= 0);
+        CHECK(guide->lobe(h, p));
         for (float share : {0.5f, 0.8f, 1.f}) {
             const GuidedEstimator guided(s, SpecularChain::Refraction, guide,
                                          std::make_unique<RefractedConeEstimator>(s), share);

@@ -33,6 +33,22 @@ struct UniformCone {
     glm::vec3 sample(float u1, float u2, float& pdf) const;
 };
 
+// Directions uniform over an ellipse on the plane tangent to the unit
+// sphere at `axis` (the gnomonic projection: w = normalize(axis + X·major
+// + Y·minor) for (X/r_major)² + (Y/r_minor)² ≤ 1), major and minor
+// orthonormal and perpendicular to axis. A cone with an elliptic section,
+// the shape a small disc's directions take through a refracting surface.
+// Its density in solid angle is 1 / (π r_major r_minor cos³θ), θ the angle
+// from the axis: a solid angle dω at θ covers dω / cos³θ of the plane.
+struct EllipticCone {
+    glm::vec3 axis{0.f, 0.f, 1.f}, major{1.f, 0.f, 0.f}, minor{0.f, 1.f, 0.f};
+    float r_major = 0.f, r_minor = 0.f;
+    // Density of direction w: 0 outside the cone.
+    float pdf(const glm::vec3& w) const;
+    // A direction of the cone from u1, u2 in [0, 1).
+    glm::vec3 sample(float u1, float u2) const;
+};
+
 // Systematic selection (systematic sampling, Madow and Madow 1944): of the
 // events k = 0, 1, 2, … of one sequence, those where frac(offset + k·q) < q,
 // with one offset uniform in [0, 1) for the whole sequence. Each event is

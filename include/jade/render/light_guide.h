@@ -20,6 +20,16 @@
 // direction, so the estimators' samples and the paths that meet the light
 // by themselves are weighed against each other by MIS.
 //
+// A cell's histogram averages the directions over the whole cell, and
+// under a curved surface the light's direction changes across a cell by as
+// much as a small disc's width. So for the light straight in and the light
+// mirrored off the outside, each cell also fits a lobe to its rays: the
+// direction as an affine function of the position in the cell, and an
+// elliptic cone about it as wide as the rays' spread about that function
+// (core/direction_fit.h). Where a cell has one, half of the directions are
+// drawn from the lobe at the vertex, half from the histogram, and the
+// density is the mixture's.
+//
 // Each stretch of light deposits its length in the cell (a track-length
 // estimate of the light's fluence there) times its weight through the
 // boundary and e^(−σ̄ s) after s inside, σ̄ the smallest channel's
@@ -31,6 +41,7 @@
 // not its bounding box.
 
 #include "jade/core/bounds.h"
+#include "jade/core/direction_fit.h"
 #include "jade/core/sphere_bins.h"
 #include "jade/render/light_estimator.h"
 
@@ -39,6 +50,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace jade {
@@ -76,10 +88,20 @@ public:
     // The histogram of `chain` in the cell holding p, or −1 (outside the
     // grid, or no light of that chain reached it).
     int histogram(const glm::vec3& p, SpecularChain chain) const;
-    // A direction drawn from histogram h (≥ 0), u's in [0, 1).
-    glm::vec3 sample(int h, float u1, float u2, float u3) const;
+    // The share of the directions a cell with a lobe draws from it. On the
+    // demo at 20° (256², 30 s, three seed pairs) 0.5 and 0.7 did alike.
+    static constexpr float kLobeShare = 0.5f;
+    // A direction drawn at p from histogram h (≥ 0) of p's cell: from the
+    // cell's lobe at p (kLobeShare of them, where it has one) or from the
+    // histogram's bins; u's in [0, 1).
+    glm::vec3 sample(int h, const glm::vec3& p, float u1, float u2, float u3) const;
     // Its density in solid angle.
-    float pdf(int h, const glm::vec3& w) const;
+    float pdf(int h, const glm::vec3& p, const glm::vec3& w) const;
+    // The bins alone: a direction drawn from them, and their density.
+    glm::vec3 sample_bins(int h, float u1, float u2, float u3) const;
+    float bins_pdf(int h, const glm::vec3& w) const;
+    // The cone of histogram h's lobe at p (in h's cell), or none.
+    std::optional<EllipticCone> lobe(int h, const glm::vec3& p) const;
     // Histogram h's share of the light its cell receives by all chains.
     float share(int h) const { return share_[std::size_t(h)]; }
     const SphereBins& bins() const { return bins_; }
@@ -98,6 +120,7 @@ private:
     // one row, a few cache lines instead of a search over the whole cdf.
     std::vector<float> row_ends_;
     std::vector<float> share_;        // per histogram, share()
+    std::vector<std::optional<DirectionLobe>> lobes_;  // per histogram, its cell's lobe (light_guide.cpp, has_lobe)
 };
 
 }  // namespace jade
