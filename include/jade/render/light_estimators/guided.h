@@ -15,8 +15,9 @@
 // has traced the light in through every face, so a vertex whose light
 // comes in by another face (under a vase's rim, lit through its top) is
 // reached as well. A wide disc's preimage spans several of the guide's
-// bins, and the guide then takes most of the samples (docs/design.md,
-// "Light guide"). To the integrator it is one estimator: its density, the
+// bins and the cell's lobe covers it at the vertex, and the guide then
+// takes all the samples where it has a histogram (docs/design.md, "Light
+// guide"). To the integrator it is one estimator: its density, the
 // mixture's, is known for every path of the chain, so the paths that meet
 // the light by themselves are weighed against it by MIS as before.
 
