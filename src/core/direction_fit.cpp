@@ -69,7 +69,10 @@ std::optional<EllipticCone> DirectionLobe::cone(const glm::vec3& x) const {
 
 // Least squares: the model A (3×4) minimises Σq |w − A (1, x)|², so
 // A = B M⁻¹ with M = Σq (1, x)(1, x)ᵀ and B = Σq w (1, x)ᵀ; the residuals'
-// second moment is then (Σq w wᵀ − A Bᵀ) / Σq.
+// second moment is then (Σq w wᵀ − A Bᵀ) / Σq. With the ridge in M that
+// spread exceeds the residuals' by ridge · J Jᵀ (J the model's change
+// across the cell): a little more room where the direction turns fast,
+// as measured (docs/design.md, "The cells' lobes").
 std::optional<DirectionLobe> fit_direction_lobe(const DirectionSums& sums, const DirectionFitSettings& settings) {
     const double* v = sums.v.data();
     const double total = v[kQ];

@@ -148,6 +148,7 @@ TEST_CASE("the guide is a normalised density that the threads do not change and 
     LightGuide one_thread;
     tbb::task_arena(1).execute([&] { one_thread = LightGuide(s, 3); });
     SplitMix64 rng(5);
+    int lobes = 0;
     for (const glm::vec3& p : {glm::vec3(0.f), glm::vec3(0.3f, 0.5f, 0.2f), glm::vec3(-0.4f, 0.1f, -0.3f)}) {
         for (SpecularChain chain : {SpecularChain::Refraction, SpecularChain::ReflectionRefraction}) {
             const int h = guide.histogram(p, chain);
@@ -166,6 +167,14 @@ TEST_CASE("the guide is a normalised density that the threads do not change and 
             }
             CHECK(total == Approx(1.0).epsilon(1e-4));
             CHECK(same);
+            // The lobes' sums are integers too.
+            const std::optional<EllipticCone> lobe = guide.lobe(h, p), alone = one_thread.lobe(h, p);
+            REQUIRE(lobe.has_value() == alone.has_value());
+            if (lobe) {
+                ++lobes;
+                CHECK((lobe->axis == alone->axis && lobe->r_major == alone->r_major &&
+                       lobe->r_minor == alone->r_minor));
+            }
             const int n = 200000;
             std::vector<int> counts(std::size_t(bins.count()), 0);
             for (int k = 0; k < n; ++k)
@@ -182,6 +191,7 @@ TEST_CASE("the guide is a normalised density that the threads do not change and 
         // A ray leaving a convex object meets nothing: no mirrored chain.
         CHECK(guide.histogram(p, SpecularChain::RefractionReflection) == -1);
     }
+    CHECK(lobes == 3);  // one per vertex: the light straight in
     const Scene delta = guide_scene(accel, medium, {0.3f, 0.8f, 0.5f}, 0.f);
     CHECK(LightGuide(delta, 3).empty());
 }
