@@ -89,7 +89,7 @@ PixelSampler::PixelSampler(std::uint64_t seed, std::uint64_t pixel) {
     const std::uint64_t pixel_key = splitmix64(splitmix64(seed ^ 0x5851F42D4C957F2Dull) + pixel);
     for (int r = 0; r < kReplicates; ++r) {
         const std::uint64_t key = pixel_key ^ splitmix64(std::uint64_t(r) + 0x14057B7EF767814Full);
-        for (int d = 0; d < 3; ++d)
+        for (int d = 0; d < kDimensions; ++d)
             scramble_[std::size_t(r)][std::size_t(d)] =
                 std::uint32_t(splitmix64(key + std::uint64_t(d) * 0x9E3779B97F4A7C15ull) >> 32);
     }
@@ -106,6 +106,17 @@ FirstNumbers PixelSampler::first_numbers(std::uint64_t sample) const {
     return u;
 }
 
+std::array<float, 2> PixelSampler::film_numbers(std::uint64_t sample) const {
+    const auto& scramble = scramble_[std::size_t(sample_replicate(sample))];
+    const auto j = std::uint32_t(sample / 3 / kReplicates * 3 + sample % 3);
+    // Scrambling the reversed index flips each of its bits by the bits
+    // above it, and comes back in order.
+    const std::uint32_t shuffled = owen_scramble_reversed(reverse_bits(j), scramble[5]);
+    // The van der Corput point reversed is its index.
+    return {to_uniform(owen_scramble_reversed(shuffled, scramble[3])),
+            to_uniform(owen_scramble_reversed(sobol_reversed(kSobolDirectionReversed[0], shuffled), scramble[4]))};
+}
+
 int stratified_hero(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
     return PixelSampler(seed, pixel).hero(sample);
 }
@@ -114,6 +125,10 @@ int sample_replicate(std::uint64_t sample) { return int((sample / 3) % kReplicat
 
 FirstNumbers first_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
     return PixelSampler(seed, pixel).first_numbers(sample);
+}
+
+std::array<float, 2> film_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
+    return PixelSampler(seed, pixel).film_numbers(sample);
 }
 
 }  // namespace jade

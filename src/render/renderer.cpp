@@ -48,18 +48,19 @@ struct FilmsByReplicate {
     Film& of(int replicate) const { return *films[std::size_t(replicate) * films.size() / kReplicates]; }
 };
 
-// A camera sample's film position in pixel (x, y): the sample's first two
-// numbers.
-glm::vec2 film_position(const PinholeCamera& camera, int x, int y, SampleStream& rng) {
-    const float fx = (float(x) + rng.uniform()) / float(camera.width());
-    const float fy = (float(y) + rng.uniform()) / float(camera.height());
+// A camera sample's film position in pixel (x, y), from its place u in
+// the pixel (render/pixel_sampler.h).
+glm::vec2 film_position(const PinholeCamera& camera, int x, int y, const std::array<float, 2>& u) {
+    const float fx = (float(x) + u[0]) / float(camera.width());
+    const float fy = (float(y) + u[1]) / float(camera.height());
     return {fx, fy};
 }
 
 // Samples [samples.first, samples.last) of pixel (x, y), in index order.
 // Their camera rays leave one point in nearly one direction: each packet of
 // Boundary::kPacket is traced at once, and every path goes on alone from
-// its first hit. A sample's random numbers start with its film position.
+// its first hit. A sample's film position is the pixel's
+// (PixelSampler::film_numbers).
 void add_pixel_samples(const Scene& scene, const Integrator& integrator,
                        const PinholeCamera& camera, const RenderSettings& settings,
                        SampleRange samples, int x, int y, const FilmsByReplicate& out, PathCounters& counters) {
@@ -76,7 +77,8 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
         std::array<glm::vec3, kPacket> direction;
         for (int i = 0; i < n; ++i) {
             rng[std::size_t(i)] = SampleStream(settings.seed, pixel, std::uint64_t(first + i));
-            film_at[std::size_t(i)] = film_position(camera, x, y, rng[std::size_t(i)]);
+            film_at[std::size_t(i)] =
+                film_position(camera, x, y, sampler.film_numbers(std::uint64_t(first + i)));
             direction[std::size_t(i)] = camera.direction(film_at[std::size_t(i)].x, film_at[std::size_t(i)].y);
         }
         std::array<std::optional<SurfaceHit>, kPacket> hit;
@@ -124,8 +126,7 @@ void add_backdrop_samples(const Scene& scene, const PinholeCamera& camera, const
     }
     for (int k = samples.first; k < samples.last; ++k) {
         const auto sample = std::uint64_t(k);
-        SampleStream rng(settings.seed, pixel, sample);
-        const glm::vec2 at = film_position(camera, x, y, rng);
+        const glm::vec2 at = film_position(camera, x, y, sampler.film_numbers(sample));
         ps.backdrop_direction = camera.direction(at.x, at.y);
         const int replicate = sample_replicate(sample);
         out.of(replicate).add_sample(x, y, backdrop(scene, settings.backdrop, ps, at.x, at.y), false,

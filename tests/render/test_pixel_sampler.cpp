@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 using namespace jade;
@@ -195,4 +196,89 @@ TEST_CASE("replicates: the direction's numbers are uniform over pixels and indep
     CHECK(std::abs(correlation(d0, d1)) < bound);
     CHECK(std::abs(correlation(d0, [&](std::size_t i) { return double(v[i].direction[0]); })) < bound);
     CHECK(std::abs(correlation(d1, [&](std::size_t i) { return double(v[i].direction[1]); })) < bound);
+}
+
+namespace {
+
+// The sample index of a replicate's n-th film position (its turns' samples
+// in order).
+std::uint64_t film_sample_of(std::uint64_t n, int r) { return sample_of(n / 3, r, int(n % 3)); }
+
+// Whether the first 2^k film positions of replicate r hold one in every
+// elementary interval of area 2^-k of the pixel: a (0, k, 2)-net.
+bool film_is_net(std::uint64_t pixel, int r, int k) {
+    const std::uint64_t n = 1ull << k;
+    for (int a = 0; a <= k; ++a) {
+        const int b = k - a;
+        std::vector<int> count(std::size_t(1) << k, 0);
+        for (std::uint64_t i = 0; i < n; ++i) {
+            const std::array<float, 2> u = film_numbers(5, pixel, film_sample_of(i, r));
+            ++count[(std::size_t(u[0] * float(1 << a)) << b) | std::size_t(u[1] * float(1 << b))];
+        }
+        for (int c : count)
+            if (c != 1) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("film positions: every prefix of a replicate's positions is a (0, k, 2)-net over the pixel",
+          "[pixel_sampler]") {
+    // The shuffled index maps the first 2^k positions onto an aligned block
+    // of 2^k points of Sobol's first two dimensions, a (0, k, 2)-net, and
+    // Owen's scrambling keeps it one.
+    for (std::uint64_t pixel : {0ull, 1ull, 977ull})
+        for (int r = 0; r < kReplicates; ++r)
+            for (int k = 1; k <= 10; ++k) CHECK(film_is_net(pixel, r, k));
+    // Each sample of a turn has its own position (the first numbers are the
+    // turn's), and each is a multiple of 2^-24 in [0, 1).
+    for (std::uint64_t s = 0; s < 300; s += 3) {
+        const auto a = film_numbers(3, 17, s), b = film_numbers(3, 17, s + 1);
+        CHECK(a != b);
+        for (float u : {a[0], a[1], b[0], b[1]}) {
+            REQUIRE(u >= 0.f);
+            REQUIRE(u < 1.f);
+            CHECK(u * 16777216.f == std::floor(u * 16777216.f));
+        }
+    }
+}
+
+TEST_CASE("film positions: uniform over pixels and independent of the first numbers and between replicates",
+          "[pixel_sampler]") {
+    // 16 000 pixels, sample 40: each of 4 × 4 bins binomial (n 16 000, p
+    // 1/16), standard deviation 30.6, 5 of them allowed; correlations with
+    // standard deviation 1/√16 000, 5 of them allowed.
+    const int n = 16000;
+    std::array<int, 16> bins{};
+    std::vector<std::array<float, 2>> film, other;
+    std::vector<FirstNumbers> first;
+    for (int pixel = 0; pixel < n; ++pixel) {
+        film.push_back(film_numbers(9, std::uint64_t(pixel), 40));
+        other.push_back(film_numbers(9, std::uint64_t(pixel), 43));
+        first.push_back(first_numbers(9, std::uint64_t(pixel), 40));
+        ++bins[std::size_t(film.back()[0] * 4.f) * 4 + std::size_t(film.back()[1] * 4.f)];
+    }
+    const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
+    for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
+    const auto correlation = [&](const std::function<double(std::size_t)>& x,
+                                 const std::function<double(std::size_t)>& y) {
+        double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double a = x(std::size_t(i)), b = y(std::size_t(i));
+            sx += a, sy += b, sxy += a * b, sxx += a * a, syy += b * b;
+        }
+        const double cov = sxy / n - sx / n * sy / n;
+        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+    };
+    const double bound = 5.0 / std::sqrt(double(n));
+    for (std::size_t d = 0; d < 2; ++d) {
+        const auto f = [&, d](std::size_t i) { return double(film[i][d]); };
+        CHECK(std::abs(correlation(f, [&](std::size_t i) { return double(first[i].flight); })) < bound);
+        CHECK(std::abs(correlation(f, [&](std::size_t i) { return double(first[i].direction[0]); })) < bound);
+        CHECK(std::abs(correlation(f, [&](std::size_t i) { return double(first[i].direction[1]); })) < bound);
+        CHECK(std::abs(correlation(f, [&, d](std::size_t i) { return double(other[i][d]); })) < bound);
+    }
+    CHECK(std::abs(correlation([&](std::size_t i) { return double(film[i][0]); },
+                               [&](std::size_t i) { return double(film[i][1]); })) < bound);
 }

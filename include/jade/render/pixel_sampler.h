@@ -50,6 +50,23 @@ struct FirstNumbers {
 };
 FirstNumbers first_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
 
+// The film position of sample `sample` within its pixel, (x, y) in [0, 1)²
+// from the pixel's corner. Replicate r's samples take, in their order
+// (point 3t + k for the k-th sample of its t-th turn), the points of
+// Sobol's first two dimensions at an index shuffled by a nested uniform
+// scramble of its own (Burley 2020's padding: each bit of the index
+// flipped by a hash of the bits above it), each dimension with Owen's
+// scrambling seeded per (pixel, replicate). The shuffle maps every aligned
+// block of 2^k indices onto one, and an aligned block of a (0, 2)-sequence
+// is a (0, k, 2)-net: a replicate's first 2^k positions hold one in every
+// elementary interval of area 2^-k of the pixel, so an edge across it (a
+// silhouette, the rim of the light's reflection) is covered in proportion,
+// not by chance. Each position is uniform on its own and independent of
+// the first numbers above and between replicates (every dimension has a
+// scramble of its own); the shuffle keeps the positions' order from
+// following the first numbers' across a replicate.
+std::array<float, 2> film_numbers(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
+
 // The same for a run of one pixel's samples: what depends on the pixel
 // alone (its hero start and its replicates' scrambles, a few hashes each)
 // is computed once, not per sample. The values are the functions' above.
@@ -58,12 +75,14 @@ public:
     PixelSampler(std::uint64_t seed, std::uint64_t pixel);
     int hero(std::uint64_t sample) const { return int((hero_start_ + sample) % 3); }
     FirstNumbers first_numbers(std::uint64_t sample) const;
+    std::array<float, 2> film_numbers(std::uint64_t sample) const;
 
 private:
     std::uint64_t hero_start_ = 0;
-    // Per replicate, the scrambles' seeds of the flight and the direction's
-    // two numbers.
-    std::array<std::array<std::uint32_t, 3>, kReplicates> scramble_{};
+    // Per replicate, the scrambles' seeds of the flight, the direction's two
+    // numbers, the film position's two and the film's index shuffle.
+    static constexpr int kDimensions = 6;
+    std::array<std::array<std::uint32_t, kDimensions>, kReplicates> scramble_{};
 };
 
 }  // namespace jade
