@@ -487,20 +487,19 @@ std::optional<EllipticCone> LightGuide::lobe(int h, const glm::vec3& p) const {
     return lobe->cone(cell_offset(p, origin_, cell_size_));
 }
 
-// From the lobe at p with probability kLobeShare (u1 below it, rescaled),
+// From the lobe with probability kLobeShare (u1 below it, rescaled),
 // otherwise from the bins.
-glm::vec3 LightGuide::sample(int h, const glm::vec3& p, float u1, float u2, float u3) const {
-    if (const std::optional<EllipticCone> cone = lobe(h, p)) {
-        if (u1 < kLobeShare) return cone->sample(u1 / kLobeShare, u2);
+glm::vec3 LightGuide::sample(const Site& site, float u1, float u2, float u3) const {
+    if (site.lobe) {
+        if (u1 < kLobeShare) return site.lobe->sample(u1 / kLobeShare, u2);
         u1 = std::min((u1 - kLobeShare) / (1.f - kLobeShare), kOneBelow);
     }
-    return sample_bins(h, u1, u2, u3);
+    return sample_bins(site.histogram, u1, u2, u3);
 }
 
-float LightGuide::pdf(int h, const glm::vec3& p, const glm::vec3& w) const {
-    const float bins = bins_pdf(h, w);
-    const std::optional<EllipticCone> cone = lobe(h, p);
-    return cone ? (1.f - kLobeShare) * bins + kLobeShare * cone->pdf(w) : bins;
+float LightGuide::pdf(const Site& site, const glm::vec3& w) const {
+    const float bins = bins_pdf(site.histogram, w);
+    return site.lobe ? (1.f - kLobeShare) * bins + kLobeShare * site.lobe->pdf(w) : bins;
 }
 
 glm::vec3 LightGuide::sample_bins(int h, float u1, float u2, float u3) const {

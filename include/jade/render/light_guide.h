@@ -91,12 +91,19 @@ public:
     // The share of the directions a cell with a lobe draws from it. On the
     // demo at 20° (256², 30 s, three seed pairs) 0.5 and 0.7 did alike.
     static constexpr float kLobeShare = 0.5f;
-    // A direction drawn at p from histogram h (≥ 0) of p's cell: from the
-    // cell's lobe at p (kLobeShare of them, where it has one) or from the
-    // histogram's bins; u's in [0, 1).
-    glm::vec3 sample(int h, const glm::vec3& p, float u1, float u2, float u3) const;
+    // The guide at a vertex: histogram h (≥ 0) of the vertex's cell and the
+    // cone of its lobe there, if it has one. An estimator that draws a
+    // direction and then asks its density finds the cone once.
+    struct Site {
+        int histogram = -1;
+        std::optional<EllipticCone> lobe;
+    };
+    Site site(int h, const glm::vec3& p) const { return {h, lobe(h, p)}; }
+    // A direction drawn at the site: from the lobe (kLobeShare of them,
+    // where there is one) or from the histogram's bins; u's in [0, 1).
+    glm::vec3 sample(const Site& site, float u1, float u2, float u3) const;
     // Its density in solid angle.
-    float pdf(int h, const glm::vec3& p, const glm::vec3& w) const;
+    float pdf(const Site& site, const glm::vec3& w) const;
     // The bins alone: a direction drawn from them, and their density.
     glm::vec3 sample_bins(int h, float u1, float u2, float u3) const;
     float bins_pdf(int h, const glm::vec3& w) const;

@@ -108,20 +108,21 @@ std::optional<LightSample> GuidedEstimator::sample(const glm::vec3& p, float u1,
     if (h < 0) return other_ ? other_->sample(p, u1, u2, rng, counters) : std::nullopt;
     const Mixture m = mixture(h);
     if (m.sampled < 1.f && !(rng.uniform() < m.sampled)) return std::nullopt;
+    const LightGuide::Site site = guide_->site(h, p);
     if (m.guided >= 1.f || rng.uniform() < m.guided) {
-        const glm::vec3 w = guide_->sample(h, p, u1, u2, rng.uniform());
+        const glm::vec3 w = guide_->sample(site, u1, u2, rng.uniform());
         PathToLight path;
         LightSample ls = follow(p, w, rng, counters, path);
         ls.direction = w;
         if (!(max_component(ls.radiance) > 0.f)) return ls;  // nothing arrives: no density needed
-        ls.pdf = density(h, m, p, w, other_pdf(m, path, counters));
+        ls.pdf = density(site, m, w, other_pdf(m, path, counters));
         // A direction drawn on a bin's edge may round into an empty
         // neighbour: drop it (a density of 0 would read as a delta).
         if (!(ls.pdf > 0.f)) ls.radiance = Spectrum(0.f);
         return ls;
     }
     std::optional<LightSample> ls = other_->sample(p, u1, u2, rng, counters);
-    if (ls && !ls->is_delta()) ls->pdf = density(h, m, p, ls->direction, ls->pdf);
+    if (ls && !ls->is_delta()) ls->pdf = density(site, m, ls->direction, ls->pdf);
     return ls;
 }
 
@@ -130,14 +131,15 @@ float GuidedEstimator::pdf(const PathToLight& path, PathCounters& counters) cons
     const int h = guide_->histogram(path.vertex, chain_);
     if (h < 0) return other_ ? other_->pdf(path, counters) : 0.f;
     const Mixture m = mixture(h);
-    return density(h, m, path.vertex, path.direction, other_pdf(m, path, counters));
+    return density(guide_->site(h, path.vertex), m, path.direction, other_pdf(m, path, counters));
 }
 
-// The density of direction w at vertex p of histogram h: the guide's share
-// of the samples from the guide, the rest from the other estimator (whose
-// density of w is `other`).
-float GuidedEstimator::density(int h, const Mixture& m, const glm::vec3& p, const glm::vec3& w, float other) const {
-    return m.sampled * (m.guided * guide_->pdf(h, p, w) + (1.f - m.guided) * other);
+// The density of direction w at the guide's site: the guide's share of the
+// samples from the guide, the rest from the other estimator (whose density
+// of w is `other`).
+float GuidedEstimator::density(const LightGuide::Site& site, const Mixture& m, const glm::vec3& w,
+                               float other) const {
+    return m.sampled * (m.guided * guide_->pdf(site, w) + (1.f - m.guided) * other);
 }
 
 }  // namespace jade

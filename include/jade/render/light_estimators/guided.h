@@ -61,7 +61,7 @@ private:
     };
     Mixture mixture(int h) const;
     float other_pdf(const Mixture& m, const PathToLight& path, PathCounters& counters) const;
-    float density(int h, const Mixture& m, const glm::vec3& p, const glm::vec3& w, float other) const;
+    float density(const LightGuide::Site& site, const Mixture& m, const glm::vec3& w, float other) const;
 
     const Scene& scene_;
     SpecularChain chain_;
