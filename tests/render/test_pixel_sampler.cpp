@@ -55,6 +55,31 @@ std::uint64_t sample_of(std::uint64_t j, int r, int k) {
     return 3 * (j * kReplicates + std::uint64_t(r)) + std::uint64_t(k);
 }
 
+// Whether 2^k points of the unit square hold 2^t in every elementary
+// interval of area 2^(t−k): a (t, k, 2)-net in base 2.
+bool is_net(const std::vector<std::array<float, 2>>& points, int k, int t) {
+    for (int a = 0; a <= k - t; ++a) {
+        const int b = k - t - a;  // intervals of 2^-a by 2^-b
+        std::vector<int> count(std::size_t(1) << (a + b), 0);
+        for (const auto& p : points)
+            ++count[(std::size_t(p[0] * float(1 << a)) << b) | std::size_t(p[1] * float(1 << b))];
+        for (int c : count)
+            if (c != 1 << t) return false;
+    }
+    return true;
+}
+
+// The correlation between x(i) and y(i) over i < n.
+double correlation(int n, const std::function<double(std::size_t)>& x, const std::function<double(std::size_t)>& y) {
+    double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double a = x(std::size_t(i)), b = y(std::size_t(i));
+        sx += a, sy += b, sxy += a * b, sxx += a * a, syy += b * b;
+    }
+    const double cov = sxy / n - sx / n * sy / n;
+    return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+}
+
 }  // namespace
 
 TEST_CASE("replicates: every turn of the heroes lies in one replicate and shares its first numbers",
@@ -97,46 +122,35 @@ TEST_CASE("replicates: a flight number is uniform over pixels and independent be
     // 1/√16 000 = 0.0079 over the pixels; 5 of them allowed.
     const int n = 16000;
     std::array<int, 16> bins{};
-    const auto correlation = [&](auto other) {
-        double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
-        for (int pixel = 0; pixel < n; ++pixel) {
-            const double x = first_numbers(9, std::uint64_t(pixel), 40).flight, y = other(std::uint64_t(pixel));
-            sx += x, sy += y, sxy += x * y, sxx += x * x, syy += y * y;
-        }
-        const double cov = sxy / n - sx / n * sy / n;
-        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+    const auto with_flight = [&](const std::function<double(std::size_t)>& other) {
+        return correlation(n, [](std::size_t p) { return double(first_numbers(9, p, 40).flight); }, other);
     };
     for (int pixel = 0; pixel < n; ++pixel) ++bins[std::size_t(first_numbers(9, std::uint64_t(pixel), 40).flight * 16.f)];
     const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
     for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
     REQUIRE(sample_replicate(40) != sample_replicate(43));
-    CHECK(std::abs(correlation([](std::uint64_t p) { return double(first_numbers(9, p, 43).flight); })) <
+    CHECK(std::abs(with_flight([](std::size_t p) { return double(first_numbers(9, p, 43).flight); })) <
           5.0 / std::sqrt(double(n)));
-    CHECK(std::abs(correlation([](std::uint64_t p) { return double(SampleStream(9, p, 40).uniform()); })) <
+    CHECK(std::abs(with_flight([](std::size_t p) { return double(SampleStream(9, p, 40).uniform()); })) <
           5.0 / std::sqrt(double(n)));
 }
 
 namespace {
 
-// Whether the first 2^k points of replicate r, in dimensions x and y of
-// (flight, direction[0], direction[1]), hold 2^t points in every
-// elementary interval of area 2^(t−k): a (t, k, 2)-net in base 2.
-bool is_net(std::uint64_t pixel, int r, int k, int t, int x, int y) {
-    const std::uint64_t n = 1ull << k;
-    for (int a = 0; a <= k - t; ++a) {
-        const int b = k - t - a;  // intervals of 2^-a by 2^-b
-        std::vector<int> count(std::size_t(1) << (a + b), 0);
-        for (std::uint64_t j = 0; j < n; ++j) {
-            const FirstNumbers u = first_numbers(5, pixel, sample_of(j, r, 1));
-            const std::array<float, 3> p{u.flight, u.direction[0], u.direction[1]};
-            const auto i = std::size_t(p[std::size_t(x)] * float(1 << a));
-            const auto jj = std::size_t(p[std::size_t(y)] * float(1 << b));
-            ++count[(i << b) | jj];
-        }
-        for (int c : count)
-            if (c != 1 << t) return false;
+// The first 2^k points of replicate r in dimensions x and y of (flight,
+// direction[0], direction[1]).
+std::vector<std::array<float, 2>> first_points(std::uint64_t pixel, int r, int k, int x, int y) {
+    std::vector<std::array<float, 2>> points;
+    for (std::uint64_t j = 0; j < (1ull << k); ++j) {
+        const FirstNumbers u = first_numbers(5, pixel, sample_of(j, r, 1));
+        const std::array<float, 3> p{u.flight, u.direction[0], u.direction[1]};
+        points.push_back({p[std::size_t(x)], p[std::size_t(y)]});
     }
-    return true;
+    return points;
+}
+
+bool is_net(std::uint64_t pixel, int r, int k, int t, int x, int y) {
+    return is_net(first_points(pixel, r, k, x, y), k, t);
 }
 
 }  // namespace
@@ -178,24 +192,15 @@ TEST_CASE("replicates: the direction's numbers are uniform over pixels and indep
     }
     const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
     for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
-    const auto correlation = [&](auto x, auto y) {
-        double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
-        for (int i = 0; i < n; ++i) {
-            const double a = x(std::size_t(i)), b = y(std::size_t(i));
-            sx += a, sy += b, sxy += a * b, sxx += a * a, syy += b * b;
-        }
-        const double cov = sxy / n - sx / n * sy / n;
-        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
-    };
     const double bound = 5.0 / std::sqrt(double(n));
     const auto flight = [&](std::size_t i) { return double(u[i].flight); };
     const auto d0 = [&](std::size_t i) { return double(u[i].direction[0]); };
     const auto d1 = [&](std::size_t i) { return double(u[i].direction[1]); };
-    CHECK(std::abs(correlation(flight, d0)) < bound);
-    CHECK(std::abs(correlation(flight, d1)) < bound);
-    CHECK(std::abs(correlation(d0, d1)) < bound);
-    CHECK(std::abs(correlation(d0, [&](std::size_t i) { return double(v[i].direction[0]); })) < bound);
-    CHECK(std::abs(correlation(d1, [&](std::size_t i) { return double(v[i].direction[1]); })) < bound);
+    CHECK(std::abs(correlation(n, flight, d0)) < bound);
+    CHECK(std::abs(correlation(n, flight, d1)) < bound);
+    CHECK(std::abs(correlation(n, d0, d1)) < bound);
+    CHECK(std::abs(correlation(n, d0, [&](std::size_t i) { return double(v[i].direction[0]); })) < bound);
+    CHECK(std::abs(correlation(n, d1, [&](std::size_t i) { return double(v[i].direction[1]); })) < bound);
 }
 
 namespace {
@@ -204,21 +209,11 @@ namespace {
 // in order).
 std::uint64_t film_sample_of(std::uint64_t n, int r) { return sample_of(n / 3, r, int(n % 3)); }
 
-// Whether the first 2^k film positions of replicate r hold one in every
-// elementary interval of area 2^-k of the pixel: a (0, k, 2)-net.
-bool film_is_net(std::uint64_t pixel, int r, int k) {
-    const std::uint64_t n = 1ull << k;
-    for (int a = 0; a <= k; ++a) {
-        const int b = k - a;
-        std::vector<int> count(std::size_t(1) << k, 0);
-        for (std::uint64_t i = 0; i < n; ++i) {
-            const std::array<float, 2> u = film_numbers(5, pixel, film_sample_of(i, r));
-            ++count[(std::size_t(u[0] * float(1 << a)) << b) | std::size_t(u[1] * float(1 << b))];
-        }
-        for (int c : count)
-            if (c != 1) return false;
-    }
-    return true;
+// The first 2^k film positions of replicate r.
+std::vector<std::array<float, 2>> film_points(std::uint64_t pixel, int r, int k) {
+    std::vector<std::array<float, 2>> points;
+    for (std::uint64_t i = 0; i < (1ull << k); ++i) points.push_back(film_numbers(5, pixel, film_sample_of(i, r)));
+    return points;
 }
 
 }  // namespace
@@ -230,7 +225,7 @@ TEST_CASE("film positions: every prefix of a replicate's positions is a (0, k, 2
     // Owen's scrambling keeps it one.
     for (std::uint64_t pixel : {0ull, 1ull, 977ull})
         for (int r = 0; r < kReplicates; ++r)
-            for (int k = 1; k <= 10; ++k) CHECK(film_is_net(pixel, r, k));
+            for (int k = 1; k <= 10; ++k) CHECK(is_net(film_points(pixel, r, k), k, 0));
     // Each sample of a turn has its own position (the first numbers are the
     // turn's), and each is a multiple of 2^-24 in [0, 1).
     for (std::uint64_t s = 0; s < 300; s += 3) {
@@ -261,24 +256,14 @@ TEST_CASE("film positions: uniform over pixels and independent of the first numb
     }
     const double sd = std::sqrt(n * (1.0 / 16.0) * (15.0 / 16.0));
     for (int b : bins) CHECK(std::abs(b - n / 16.0) < 5.0 * sd);
-    const auto correlation = [&](const std::function<double(std::size_t)>& x,
-                                 const std::function<double(std::size_t)>& y) {
-        double sxy = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, syy = 0.0;
-        for (int i = 0; i < n; ++i) {
-            const double a = x(std::size_t(i)), b = y(std::size_t(i));
-            sx += a, sy += b, sxy += a * b, sxx += a * a, syy += b * b;
-        }
-        const double cov = sxy / n - sx / n * sy / n;
-        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
-    };
     const double bound = 5.0 / std::sqrt(double(n));
     for (std::size_t d = 0; d < 2; ++d) {
         const auto f = [&, d](std::size_t i) { return double(film[i][d]); };
-        CHECK(std::abs(correlation(f, [&](std::size_t i) { return double(first[i].flight); })) < bound);
-        CHECK(std::abs(correlation(f, [&](std::size_t i) { return double(first[i].direction[0]); })) < bound);
-        CHECK(std::abs(correlation(f, [&](std::size_t i) { return double(first[i].direction[1]); })) < bound);
-        CHECK(std::abs(correlation(f, [&, d](std::size_t i) { return double(other[i][d]); })) < bound);
+        CHECK(std::abs(correlation(n, f, [&](std::size_t i) { return double(first[i].flight); })) < bound);
+        CHECK(std::abs(correlation(n, f, [&](std::size_t i) { return double(first[i].direction[0]); })) < bound);
+        CHECK(std::abs(correlation(n, f, [&](std::size_t i) { return double(first[i].direction[1]); })) < bound);
+        CHECK(std::abs(correlation(n, f, [&, d](std::size_t i) { return double(other[i][d]); })) < bound);
     }
-    CHECK(std::abs(correlation([&](std::size_t i) { return double(film[i][0]); },
+    CHECK(std::abs(correlation(n, [&](std::size_t i) { return double(film[i][0]); },
                                [&](std::size_t i) { return double(film[i][1]); })) < bound);
 }
