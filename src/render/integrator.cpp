@@ -335,7 +335,9 @@ Integrator::Walk Integrator::walk_sphere(PathState& s) const {
 // A free flight in the medium: first through the stretch the boundary's
 // clearance proves free of the surface (no ray query; s.o advances), then,
 // only if no real collision happened there, up to the boundary, whose hit is
-// left in `hit`. Free flights are memoryless, so the split is unbiased.
+// left in `hit`. One tracker walks the whole flight from its start, so the
+// optical depth drawn for a collision carries across the stretches (free
+// flights are memoryless: the split is unbiased either way).
 Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
                                    MediumProperties& at) const {
     if (draw_first_[s.hero]) return fly_drawn(s, hit, at);
@@ -343,34 +345,40 @@ Integrator::Flight Integrator::fly(PathState& s, std::optional<SurfaceHit>& hit,
     const glm::vec3 start = s.o;
     const float query_from = s.query_from;
     s.query_from = 0.f;  // this flight ends at a collision or at the surface: a new ray either way
+    MajorantTracker tracker(*scene_.medium, start, s.d, s.hero, Spectrum(0.f));
+    float flown = 0.f;  // from start to s.o
     advance_within_clearance(*scene_.boundary, s.o, s.d, [&](float r) {
-        flight = track(s, r, at);
+        flight = track(s, tracker, flown + r, at);
+        flown += r;
         return flight == Flight::Reached;
     });
     if (flight != Flight::Reached) return flight;
-    const float from = std::max(0.f, query_from - glm::length(s.o - start));
+    const float from = std::max(0.f, query_from - flown);
     // The surface is asked for first within kQueryReach mean free paths of
     // the hero's majorant: Embree then prunes every part of the mesh
     // farther away (scenes A and B took about 15 % less time). With no
     // surface that near, that stretch is tracked, and only a flight that
     // gets through it (e^-4 of them in a homogeneous medium) asks beyond.
-    // Free flights are memoryless, so the split is unbiased.
     const float reach = std::max(from, kQueryReach / scene_.medium->majorant()[s.hero]);
     std::optional<RayHit> surface = scene_.boundary->intersect_ray(s.o, s.d, from, reach);
     if (!surface && std::isfinite(reach)) {
-        flight = track(s, reach, at);
+        flight = track(s, tracker, flown + reach, at);
         if (flight != Flight::Reached) return flight;
         s.o += reach * s.d;
+        flown += reach;
         surface = scene_.boundary->intersect_ray(s.o, s.d, 0.f, kInfinity);
     }
     // A ray from inside that meets no surface has slipped out through a crack
     // between triangles: the medium lies inside the mesh, so there is nothing
     // to track (an unbounded flight through a grid that is zero beyond its
     // edge would draw null collisions for ever) and the path escapes.
-    if (!surface) return Flight::Reached;
-    flight = track(s, surface->t, at);
+    if (surface) flight = track(s, tracker, flown + surface->t, at);
+    if (flight != Flight::Reached) return flight;
+    // Reaching the end has the hero's probability T_maj[h].
+    const Spectrum T_rest = tracker.transmittance();
+    s.w.scale(T_rest / T_rest[s.hero]);
     // Only a flight that gets there needs the surface's normals.
-    if (flight == Flight::Reached) hit = scene_.boundary->surface(*surface);
+    if (surface) hit = scene_.boundary->surface(*surface);
     return flight;
 }
 
@@ -444,20 +452,21 @@ std::optional<Integrator::Flight> Integrator::draw_flight(PathState& s, std::opt
     return std::nullopt;
 }
 
-// Delta tracking to the next real collision before t_max, against the
-// hero's majorant: a real collision (its point in s.collision, its
-// coefficients in `at`; the path scatters there and its absorption is a
-// weight, scatter()), a zero-probability null event (the path ends), or
-// none (the flight reached t_max). Each event's weight per channel is its
-// contribution over the hero's probability of making it, which is also each
-// channel's density relative to the hero's: T_maj / T_maj[h] into s.w for
-// the flight, σ_t / σ_t[h] as the density and σ_s / σ_t[h] as the
-// contribution of the collision (scatter()).
-Integrator::Flight Integrator::track(PathState& s, float t_max, MediumProperties& at) const {
+// Delta tracking to the next real collision before t_to, against the
+// hero's majorant, on the flight's tracker: a real collision (its point in
+// s.collision, its coefficients in `at`; the path scatters there and its
+// absorption is a weight, scatter()), a zero-probability null event (the
+// path ends), or none (the flight reached t_to; its majorant transmittance
+// stays in the tracker until the flight's end, fly()). Each event's weight
+// per channel is its contribution over the hero's probability of making it,
+// which is also each channel's density relative to the hero's: T_maj /
+// T_maj[h] into s.w for the flight, σ_t / σ_t[h] as the density and σ_s /
+// σ_t[h] as the contribution of the collision (scatter()).
+Integrator::Flight Integrator::track(PathState& s, MajorantTracker& tracker, float t_to,
+                                     MediumProperties& at) const {
     const int h = s.hero;
     Flight result = Flight::Reached;
-    const Spectrum T_rest = sample_t_maj(
-        *scene_.medium, s.o, s.d, t_max, h, Spectrum(0.f), s.rng,
+    tracker.track_to(t_to, s.rng,
         [&](const glm::vec3& p, const MediumProperties& m, const Spectrum& mu, const Spectrum& T_maj) {
             const Spectrum sigma_t = m.sigma_s + m.sigma_a;
             if (s.rng.uniform() < sigma_t[h] / mu[h]) {  // a real collision
@@ -478,8 +487,6 @@ Integrator::Flight Integrator::track(PathState& s, float t_max, MediumProperties
             s.w.scale(T_maj * sigma_n / (T_maj[h] * sigma_n[h]));
             return true;
         });
-    // Reaching t_max has the hero's probability T_maj[h].
-    if (result == Flight::Reached) s.w.scale(T_rest / T_rest[h]);
     return result;
 }
 

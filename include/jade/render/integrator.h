@@ -152,7 +152,7 @@ private:
     void follow(PathState& s, const std::optional<SurfaceHit>* first_hit) const;
     Walk walk_sphere(PathState& s) const;
     double sphere_room(PathState& s, const Spectrum& sigma_t) const;
-    Flight track(PathState& s, float t_max, MediumProperties& at) const;
+    Flight track(PathState& s, MajorantTracker& tracker, float t_to, MediumProperties& at) const;
     Flight fly(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     Flight fly_drawn(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     std::optional<Flight> draw_flight(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;

@@ -5,12 +5,13 @@
 // Variants live in render/media/: homogeneous, and dense grids (the material
 // volume's levels, or float grids from a foreign .vdb).
 //
-// Tracking (render/tracking.h) asks the medium for majorant segments along a
-// ray: stretches with one majorant per channel each. Today's media hand out
-// one segment with their global majorant; a medium with a majorant grid
-// hands out one per cell it crosses, and no tracking loop changes.
+// Tracking (render/tracking.h) walks majorant segments along a ray
+// (render/majorant_grid.h): stretches with one majorant per channel each, the
+// cells of the medium's majorant grid where it has one (the float grids of a
+// foreign .vdb), else one stretch under its global majorant.
 
 #include "jade/core/spectrum.h"
+#include "jade/render/majorant_grid.h"
 
 #include <glm/vec3.hpp>
 
@@ -21,12 +22,6 @@ namespace jade {
 struct MediumProperties {
     Spectrum sigma_s{0.f};  // scattering coefficient
     Spectrum sigma_a{0.f};  // absorption coefficient
-};
-
-// A stretch [t_min, t_max) of a ray over which σ_t ≤ sigma_maj, per channel.
-struct MajorantSegment {
-    float t_min = 0.f, t_max = 0.f;
-    Spectrum sigma_maj{0.f};
 };
 
 class Medium {
@@ -40,11 +35,9 @@ public:
     // known): the control extinction of residual ratio tracking
     // (render/tracking.h).
     virtual Spectrum minorant() const { return Spectrum(0.f); }
-    // The segment of the ray o + t·d that starts at t_min and ends no later
-    // than t_max. The default: all of [t_min, t_max) under the global
-    // majorant.
-    virtual MajorantSegment majorant_segment(const glm::vec3& o, const glm::vec3& d, float t_min,
-                                             float t_max) const;
+    // The grid of local majorants tracking walks, if the medium has one;
+    // without, tracking draws against majorant() all along.
+    virtual const MajorantGrid* majorant_grid() const { return nullptr; }
     // The same coefficients at every point: a path may then take whole runs
     // of collisions at once (render/sphere_exit.h).
     virtual bool homogeneous() const { return false; }

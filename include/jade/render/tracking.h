@@ -4,10 +4,11 @@
 // medium's majorant segments, and a callback decides at each what happens —
 // delta tracking (a real collision ends the flight) for paths, ratio
 // tracking (every collision is null and weighs the estimate) for shadow
-// rays. Free flights are exponential, so a flight that crosses a segment's
-// end is restarted at the next segment with its own majorant without bias.
+// rays. Free flights are exponential, so a flight's optical depth, drawn
+// once, is spent across segments of different majorants without bias.
 
 #include "jade/core/random.h"
+#include "jade/render/majorant_grid.h"
 #include "jade/render/medium.h"
 #include "jade/render/scene.h"
 
@@ -71,42 +72,96 @@ inline Spectrum majorant_transmittance_ratio(const Spectrum& mu, float dt, int h
 // the largest of the three (a grey majorant, for ratio tracking).
 constexpr int kGreyMajorant = -1;
 
-// Tentative collisions along o + t·d for 0 ≤ t < t_max, drawn against the
+// The tentative collisions of one ray o + t·d (t ≥ 0), drawn against the
 // majorant of `channel` less `control`, a control extinction σ_c ≤ σ_t
-// (zero for delta tracking; the minorant for residual ratio tracking). At
-// each one,
+// (zero for delta tracking; the minorant for residual ratio tracking), and
+// tracked stretch by stretch: track_to(t_to, ...) covers [where the last
+// call stopped, t_to). At each tentative collision
 // `collide(p, properties, sigma_maj, T_maj)` returns true to go on, false to
 // stop; T_maj is the majorant transmittance per channel since the previous
-// tentative collision (all ones under a grey majorant). Returns the majorant
-// transmittance from the last tentative collision to t_max, or zero when a
-// callback stopped the flight. Stretches where the channel's majorant is 0
-// (or all control) are crossed without drawing a number.
+// tentative collision (all ones under a grey majorant). Stretches where the
+// channel's majorant is 0 (or all control) are crossed without drawing a
+// number.
+//
+// One exponential optical depth is drawn per tentative collision and spent
+// across the segments and stretches it passes (inverting the piecewise-
+// constant majorant's optical depth: as exact as drawing anew in each, which
+// free flights' memorylessness also allows, but without a logarithm per
+// majorant cell or per clearance stretch), and the other channels' optical
+// depths are summed and turned into transmittances only where a collision
+// or the caller needs them: a majorant grid's cells are short, and a
+// segment crossed costs additions.
+class MajorantTracker {
+public:
+    MajorantTracker(const Medium& medium, const glm::vec3& o, const glm::vec3& d, int channel,
+                    const Spectrum& control)
+        : medium_(medium), o_(o), d_(d), control_(control), channel_(channel),
+          segments_(medium.majorant_grid(), medium.majorant(), o, d) {}
+
+    // False when a callback stopped the ray.
+    template <typename Collide>
+    bool track_to(float t_to, SampleStream& rng, Collide&& collide);
+    // The majorant transmittance since the last tentative collision.
+    Spectrum transmittance() const {
+        Spectrum T(1.f);
+        for (int c = 0; c < 3; ++c)
+            if (tau_[c] > 0.f) T[c] = std::exp(-tau_[c]);
+        return T;
+    }
+
+private:
+    bool grey() const { return channel_ == kGreyMajorant; }
+    void add_depth(const Spectrum& mu, float dt) {
+        for (int c = 0; c < 3; ++c)
+            if (mu[c] > 0.f) tau_[c] += mu[c] * dt;  // a zero majorant attenuates nothing
+    }
+
+    const Medium& medium_;
+    glm::vec3 o_, d_;
+    Spectrum control_;
+    int channel_;
+    MajorantIterator segments_;
+    Spectrum tau_{0.f};   // majorant optical depth since the last tentative collision (not grey)
+    float to_go_ = -1.f;  // the drawn optical depth still to cover; < 0: none drawn
+};
+
+template <typename Collide>
+bool MajorantTracker::track_to(float t_to, SampleStream& rng, Collide&& collide) {
+    for (MajorantSegment seg; segments_.next(seg, t_to);) {
+        const Spectrum residual = glm::max(Spectrum(0.f), seg.sigma_maj - control_);
+        const Spectrum mu = grey() ? Spectrum(max_component(residual)) : residual;
+        const float rate = mu[grey() ? 0 : channel_];
+        float t = seg.t_min;
+        if (rate > 0.f) {
+            for (;;) {
+                if (to_go_ < 0.f) to_go_ = free_flight(1.f, rng.uniform());
+                const float next = t + to_go_ / rate;
+                if (!(next < seg.t_max)) {
+                    to_go_ = std::max(0.f, to_go_ - rate * (seg.t_max - t));
+                    break;
+                }
+                to_go_ = -1.f;
+                if (!grey()) add_depth(mu, next - t);
+                t = next;
+                const glm::vec3 p = o_ + t * d_;
+                if (!collide(p, medium_.at(p), mu, grey() ? Spectrum(1.f) : transmittance())) return false;
+                tau_ = Spectrum(0.f);
+            }
+        }
+        if (!grey()) add_depth(mu, seg.t_max - t);
+    }
+    return true;
+}
+
+// The tentative collisions of o + t·d for 0 ≤ t < t_max as MajorantTracker
+// draws them. Returns the majorant transmittance from the last tentative
+// collision to t_max, or zero when a callback stopped the flight.
 template <typename Collide>
 Spectrum sample_t_maj(const Medium& medium, const glm::vec3& o, const glm::vec3& d, float t_max,
                       int channel, const Spectrum& control, SampleStream& rng, Collide&& collide) {
-    const bool grey = channel == kGreyMajorant;
-    Spectrum T_maj(1.f);
-    for (float t_min = 0.f; t_min < t_max;) {
-        const MajorantSegment seg = medium.majorant_segment(o, d, t_min, t_max);
-        const Spectrum residual = glm::max(Spectrum(0.f), seg.sigma_maj - control);
-        const Spectrum mu = grey ? Spectrum(max_component(residual)) : residual;
-        const float rate = mu[grey ? 0 : channel];
-        float t = seg.t_min;
-        if (rate > 0.f) {
-            for (float next = t + sample_free_flight(rate, rng); next < seg.t_max;
-                 next += sample_free_flight(rate, rng)) {
-                if (!grey) T_maj *= majorant_transmittance(mu, next - t);
-                t = next;
-                const glm::vec3 p = o + t * d;
-                if (!collide(p, medium.at(p), mu, T_maj)) return Spectrum(0.f);
-                T_maj = Spectrum(1.f);
-            }
-        }
-        if (!grey) T_maj *= majorant_transmittance(mu, seg.t_max - t);
-        if (!(seg.t_max > t_min)) break;  // an empty segment: nothing further to track
-        t_min = seg.t_max;
-    }
-    return T_maj;
+    MajorantTracker tracker(medium, o, d, channel, control);
+    if (!tracker.track_to(t_max, rng, collide)) return Spectrum(0.f);
+    return tracker.transmittance();
 }
 
 // Sphere tracing through the boundary's clearance: the start of a ray from o

@@ -112,6 +112,8 @@ FloatGridMedium::FloatGridMedium(CoefficientGrids grids) : grids_(std::move(grid
         majorant_ = glm::max(majorant_, s + a);
         minorant_ = glm::min(minorant_, s + a);
     }
+    majorant_grid_ = MajorantGrid(g, kMajorantCellVoxels,
+                                  [&](std::size_t i) { return grids_.sigma_s[i] + grids_.sigma_a[i]; });
 }
 
 MediumProperties FloatGridMedium::at(const glm::vec3& p) const {
@@ -125,7 +127,7 @@ MediumProperties FloatGridMedium::at(const glm::vec3& p) const {
 }
 
 std::size_t FloatGridMedium::memory_bytes() const {
-    return (grids_.sigma_s.size() + grids_.sigma_a.size()) * sizeof(Spectrum);
+    return (grids_.sigma_s.size() + grids_.sigma_a.size()) * sizeof(Spectrum) + majorant_grid_.memory_bytes();
 }
 
 }  // namespace jade
