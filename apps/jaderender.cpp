@@ -299,7 +299,7 @@ void add_light_flags(CLI::App& cmd, RenderFlags& f) {
     std::snprintf(toward_text, sizeof toward_text, "%g,%g,%g", toward.x, toward.y, toward.z);
     cmd.add_option("--light-dir", f.light_dir.text,
                    std::string("Direction toward the directional light (default ") + toward_text +
-                       ": upper front right, near the default camera's view)");
+                       ": just above and right of the default camera's view)");
     cmd.add_option("--light-irradiance", j.light_irradiance,
                    "Its irradiance on a surface facing it (0 = off)")
         ->capture_default_str();

@@ -402,7 +402,7 @@ def add_sun(lights, boundary):
     data = bpy.data.lights.new("jaderender sun", "SUN")
     data.angle = 2.0 * radius
     data.energy = irradiance * 2.0 / (1.0 + math.cos(radius))
-    toward = y_up_to_z_up(lights.get("direction", [0.35, 0.45, 0.82])).normalized()
+    toward = y_up_to_z_up(lights.get("direction", [0.17, 0.42, 0.89])).normalized()
     obj = bpy.data.objects.new("jaderender sun", data)
     obj.rotation_euler = toward.to_track_quat("Z", "Y").to_euler()  # a sun shines along its -z
     if stand_in:

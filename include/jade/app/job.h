@@ -43,12 +43,13 @@ struct RenderJob {
     float fov_degrees = 40.f;                  // horizontal
     int width = 512, height = 512;
 
-    // Light: by default a delta light (the paper's, §5.3) from the upper
-    // front right, 27° above the horizon and 23° to the right of the default
-    // camera's view, so that the stone the camera sees is lit from the front
-    // as a photographed slab is, with little of it in shade and no highlight
-    // of the light itself (README, "Defaults").
-    glm::vec3 light_direction{0.35f, 0.45f, 0.82f};  // toward the light
+    // Light: by default a delta light (the paper's, §5.3) from just above
+    // and to the right of the default camera's view (25° above the horizon,
+    // 11° right; the camera looks down 20°), so that the stone the camera
+    // sees is lit from the front as a photographed slab is, with little of
+    // it in shade and no highlight of the light itself, and the form still
+    // shows (README, "Defaults"; docs/design.md, "The default light").
+    glm::vec3 light_direction{0.17f, 0.42f, 0.89f};  // toward the light
     float light_irradiance = 3.f;
     float light_radius_degrees = 0.f;
     // A .gltf/.glb whose first directional light (KHR_lights_punctual) sets
