@@ -19,7 +19,6 @@
 #include <glm/vec3.hpp>
 
 #include <array>
-#include <cmath>
 #include <functional>
 #include <limits>
 #include <vector>
@@ -73,7 +72,7 @@ private:
     Spectrum global_;
     float t_ = 0.f;
     int cell_[3] = {0, 0, 0}, step_[3] = {0, 0, 0}, last_[3] = {0, 0, 0};
-    float next_crossing_[3], delta_[3];
+    float next_crossing_[3] = {0.f, 0.f, 0.f}, delta_[3] = {0.f, 0.f, 0.f};
 };
 
 inline bool MajorantIterator::next(MajorantSegment& seg, float t_to) {

@@ -41,11 +41,10 @@ struct PathCounters {
 constexpr int kMaxCrossings = 4096;
 
 // Free-flight distance to the next tentative collision against majorant mu,
-// from uniform u or the stream's next number. A uniform number is a multiple
+// from uniform u (the exponential optical depth at mu = 1). A uniform number is a multiple
 // of 2^-24 below 1 (render/pixel_sampler.h's too), so 1 − u is exact and
 // −log(1 − u) loses nothing to log1p(−u), which costs about twice as much.
 inline float free_flight(float mu, float u) { return -std::log(1.f - u) / mu; }
-inline float sample_free_flight(float mu, SampleStream& rng) { return free_flight(mu, rng.uniform()); }
 
 // exp(−μ·Δt) per channel; a channel with a zero majorant is not attenuated,
 // even over an infinite stretch.
