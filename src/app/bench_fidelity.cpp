@@ -65,11 +65,14 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     print_row("S whole render (photo below)", def.final_look.s_render, paper.final_look.s_render, " %8.2f");
     print_row("S photo", def.final_look.s_photo, paper.final_look.s_photo, " %8.2f");
     print_row("D whole render", def.final_look.d, paper.final_look.d, " %8.4f");
+    print_row("  the photo's stone, same shading", dm.d_stone, pm.d_stone, " %8.4f");
     print_row("S material (photo below)", dm.s_material, pm.s_material, " %8.2f");
     print_row("S photo at the material's scale", dm.s_photo, pm.s_photo, " %8.2f");
     print_row("D material", dm.d, pm.d, " %8.4f");
     std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, render", def.final_look.structure, "",
                 paper.final_look.structure);
+    std::printf("  %-34s  %8.3f %18s  %8.3f\n", "  the photo's stone, same shading", dm.structure_stone, "",
+                pm.structure_stone);
     std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, material", dm.structure, "",
                 pm.structure);
     // The two materials' blocks differ in size (each render's noise sets
@@ -93,6 +96,11 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     std::printf("\n  D(default) / D(paper): whole render (%.2f, %.2f, %.2f), material (%.2f, %.2f, %.2f); "
                 "the goal is <= 0.5\n",
                 whole[0], whole[1], whole[2], mat[0], mat[1], mat[2]);
+    // What the shading alone leaves of the whole render's D: the photo's own
+    // stone, lit and formed as the default's render is, against the paper's D.
+    const auto stone = ratio(dm.d_stone, paper.final_look.d);
+    std::printf("  the photo's own stone under the default's shading: D / D(paper) (%.2f, %.2f, %.2f)\n",
+                stone[0], stone[1], stone[2]);
     std::printf("  material blocks: %d px (%zu blocks) and %d px (%zu blocks)\n", dm.block, dm.blocks, pm.block,
                 pm.blocks);
 }

@@ -235,7 +235,8 @@ nlohmann::json brightness_check_json(const BrightnessCheck& b) {
 // The material with the shading divided out (fit/appearance.h).
 nlohmann::json material_json(const MaterialAppearance& m) {
     return {{"S_material", m.s_material}, {"S_material_noise", m.s_noise}, {"S_photo", m.s_photo},
-            {"D", m.d}, {"structure_distance", m.structure}, {"spectrum", spectrum_json(m.spectrum)},
+            {"D", m.d}, {"D_stone_shaded", m.d_stone}, {"structure_distance", m.structure},
+            {"structure_distance_stone_shaded", m.structure_stone}, {"spectrum", spectrum_json(m.spectrum)},
             {"block_pixels", m.block}, {"blocks", m.blocks}};
 }
 
@@ -353,11 +354,13 @@ void print_render_summary(const PipelineResult& r) {
                 look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure);
     if (r.material)
         std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
-                    "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f; its two renders %.1f s\n",
+                    "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f; its two renders %.1f s; "
+                    "the photo's own stone under the render's shading: D (%.4f, %.4f, %.4f), structure distance %.3f\n",
                     r.material->block, r.material->s_material[0], r.material->s_material[1],
                     r.material->s_material[2], r.material->s_photo[0], r.material->s_photo[1],
                     r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2],
-                    r.material->structure, r.seconds_measure);
+                    r.material->structure, r.seconds_measure, r.material->d_stone[0], r.material->d_stone[1],
+                    r.material->d_stone[2], r.material->structure_stone);
     if (r.structure_estimated)
         std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
                     "bands %.1f, warp %.2f; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",

@@ -66,11 +66,20 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
                                         photo_luma(flat_render(render.second, shading.second, exposure, m.block)),
                                         blocks_per_side);
     m.structure = structure_distance(m.spectrum, photo_spectrum(photo));
+    const RgbHistogram stone = RgbHistogram::of(
+        shaded_photo(photo, shading.merged(), exposure, render_pixels_per_side).foreground_levels());
+    const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
+    m.structure_stone = structure_distance(
+        texture_cross_spectrum(photo_luma(shaded_photo(photo, shading.first, exposure, render_pixels_per_side)),
+                               photo_luma(shaded_photo(photo, shading.second, exposure, render_pixels_per_side)),
+                               render_pixels_per_side),
+        photo_spectrum(photo));
     for (int c = 0; c < 3; ++c) {
         m.s_material[c] = spread.s[c];
         m.s_noise[c] = spread.noise[c];
         m.s_photo[c] = scan.spread(c);
         m.d[c] = histogram_distance(material, scan, c);
+        m.d_stone[c] = histogram_distance(stone, photo_levels, c);
     }
     return m;
 }

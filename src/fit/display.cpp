@@ -2,7 +2,9 @@
 
 #include "jade/core/display.h"
 #include "jade/core/error.h"
+#include "jade/volume/histogram.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/structure_estimate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -184,6 +186,17 @@ double mean_level(const ObjectChannel& f, double scale) {
     return n ? sum / double(n) : 0.0;
 }
 
+// The scale of the inside values that gives them the mean display level
+// `target`. The mean level grows with the scale: bisection on its logarithm.
+double scale_to_mean_level(const ObjectChannel& f, double target) {
+    double lo = std::log(1e-6), hi = std::log(1e6);
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (mean_level(f, std::exp(mid)) < target ? lo : hi) = mid;
+    }
+    return std::exp(0.5 * (lo + hi));
+}
+
 // The render flattened by its shading, pixel by pixel: r / h, scaled so
 // that its mean display level is the render's (the flattened image is the
 // stone at the render's brightness A). Both renders follow the same paths
@@ -203,14 +216,7 @@ ObjectChannel flattened(const ObjectChannel& r, const ObjectChannel& h) {
     }
     ObjectChannel r_inside = r;
     r_inside.inside = f.inside;
-    const double target = mean_level(r_inside, 1.0);
-    // The mean level grows with the scale: bisection on its logarithm.
-    double lo = std::log(1e-6), hi = std::log(1e6);
-    for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (mean_level(f, std::exp(mid)) < target ? lo : hi) = mid;
-    }
-    const double scale = std::exp(0.5 * (lo + hi));
+    const double scale = scale_to_mean_level(f, mean_level(r_inside, 1.0));
     for (double& v : f.value) v *= scale;
     return f;
 }
@@ -311,6 +317,86 @@ Photo flat_render(const Film& render, const Film& shading, float exposure, int b
         }
     }
     return p;
+}
+
+namespace {
+
+// The photo's linear colour over each render pixel's footprint: the photo
+// laid flat from the image's corner, `scale` photo pixels to a render pixel,
+// repeated, box-averaged with each photo pixel weighed by the share of it
+// the footprint covers, over the photo's foreground. A footprint mostly of
+// background is not inside.
+struct StoneImage {
+    std::vector<std::array<double, 3>> linear;
+    std::vector<std::uint8_t> inside;
+};
+
+// Photo pixels [a, b) of a repeating row of n: (pixel modulo n, share).
+std::vector<std::pair<int, double>> footprint(double a, double b, int n) {
+    std::vector<std::pair<int, double>> out;
+    for (long j = long(std::floor(a)); double(j) < b; ++j) {
+        const double w = std::min(b, double(j + 1)) - std::max(a, double(j));
+        if (w > 0.0) out.emplace_back(int(((j % n) + n) % n), w);
+    }
+    return out;
+}
+
+StoneImage stone_at_render_scale(const Photo& photo, int width, int height, double scale) {
+    std::vector<std::array<double, 3>> lin(photo.levels.size());
+    for (std::size_t i = 0; i < lin.size(); ++i)
+        for (int c = 0; c < 3; ++c) lin[i][c] = srgb_decode(photo.levels[i][c] / 255.0);
+    std::vector<std::vector<std::pair<int, double>>> columns(static_cast<std::size_t>(width));
+    for (int x = 0; x < width; ++x) columns[std::size_t(x)] = footprint(x * scale, (x + 1) * scale, photo.width);
+    StoneImage s;
+    s.linear.assign(std::size_t(width) * height, {0.0, 0.0, 0.0});
+    s.inside.assign(s.linear.size(), 0);
+    for (int y = 0; y < height; ++y) {
+        const auto rows = footprint(y * scale, (y + 1) * scale, photo.height);
+        for (int x = 0; x < width; ++x) {
+            std::array<double, 3> sum{0.0, 0.0, 0.0};
+            double covered = 0.0, all = 0.0;
+            for (const auto& [py, wy] : rows)
+                for (const auto& [px, wx] : columns[std::size_t(x)]) {
+                    const std::size_t j = std::size_t(py) * photo.width + std::size_t(px);
+                    all += wx * wy;
+                    if (!photo.foreground[j]) continue;
+                    covered += wx * wy;
+                    for (int c = 0; c < 3; ++c) sum[c] += wx * wy * lin[j][c];
+                }
+            if (!(2.0 * covered >= all) || !(covered > 0.0)) continue;
+            const std::size_t i = std::size_t(y) * width + x;
+            for (int c = 0; c < 3; ++c) s.linear[i][c] = sum[c] / covered;
+            s.inside[i] = 1;
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+Photo shaded_photo(const Photo& photo, const Film& shading, float exposure, double render_pixels_per_side) {
+    const StoneImage stone = stone_at_render_scale(photo, shading.width(), shading.height(),
+                                                   photo_pixels_per_side(photo) / render_pixels_per_side);
+    const ImageF32 h = film_image(shading);
+    Photo out;
+    out.width = shading.width();
+    out.height = shading.height();
+    out.levels.assign(std::size_t(out.width) * out.height, Rgb8{0, 0, 0});
+    out.foreground.assign(out.levels.size(), 0);
+    const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
+    for (int c = 0; c < 3; ++c) {
+        ObjectChannel f = object_channel(h, c, exposure);
+        for (std::size_t i = 0; i < f.value.size(); ++i) {
+            f.inside[i] = f.inside[i] && stone.inside[i];
+            f.value[i] *= stone.linear[i][c];
+        }
+        const double scale = scale_to_mean_level(f, photo_levels.mean(c));
+        for (std::size_t i = 0; i < f.value.size(); ++i) {
+            out.levels[i][c] = display_level(scale * f.value[i]);
+            out.foreground[i] = c == 0 ? f.inside[i] : out.foreground[i] && f.inside[i];
+        }
+    }
+    return out;
 }
 
 Spectrum photo_mean_linear(const Photo& photo) {

@@ -13,6 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 
 using namespace jade;
 
@@ -99,4 +100,95 @@ TEST_CASE("render structure: measured on what two halves of the samples share", 
     const Appearance look = compare_appearance(photo_histogram, truth, few, kSide);
     const TextureSpectrum floored = texture_spectrum(few.luma, kSide, few.luma_noise_variance);
     for (int b = 0; b < TextureSpectrum::kBands; ++b) CHECK(look.render.power[b] == floored.power[b]);
+}
+
+namespace {
+
+// A film whose every pixel is the object, its converged value `shade(x, y)`
+// in every channel (12 equal samples: no noise).
+template <class Shade>
+Film shading_film(int side, Shade shade) {
+    Film f(side, side);
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+            for (int s = 0; s < 12; ++s)
+                f.add_sample(x, y, Spectrum(float(shade(x, y))), true, s % 3, (s / 3) % Film::kReplicates);
+    return f;
+}
+
+Photo photo_of(int side, std::function<Rgb8(int, int)> colour) {
+    Photo p;
+    p.width = p.height = side;
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) p.levels.push_back(colour(x, y));
+    p.foreground.assign(p.levels.size(), 1);
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("the photo's stone under a shading: the photo back under even light, two levels under two",
+          "[fitter][appearance]") {
+    constexpr int kPhoto = 64;
+    SECTION("even shading at the photo's own scale gives the photo's levels back") {
+        // A texture of many levels per channel; a film of the photo's size
+        // spanning one cube side (one render pixel per photo pixel).
+        const Photo photo = photo_of(kPhoto, [](int x, int y) {
+            return Rgb8{std::uint8_t(60 + (7 * x + 3 * y) % 150), std::uint8_t(90 + (x * y) % 120),
+                        std::uint8_t(30 + (5 * x + 11 * y) % 200)};
+        });
+        const Photo stone = shaded_photo(photo, shading_film(kPhoto, [](int, int) { return 0.37; }), 2.f, kPhoto);
+        REQUIRE(stone.foreground_count() == photo.foreground_count());
+        int off = 0;
+        for (std::size_t i = 0; i < photo.levels.size(); ++i)
+            for (int c = 0; c < 3; ++c) off = std::max(off, std::abs(int(stone.levels[i][c]) - int(photo.levels[i][c])));
+        CHECK(off <= 1);  // the scale is found by bisection on the continuous mean level
+        const RgbHistogram a = RgbHistogram::of(stone.foreground_levels()), b = RgbHistogram::of(photo.foreground_levels());
+        for (int c = 0; c < 3; ++c) CHECK(histogram_distance(a, b, c) < 1e-3);
+    }
+    SECTION("a render pixel averages the photo over its footprint, shares of pixels too") {
+        // Columns alternating two colours; 1.5 photo pixels a render pixel:
+        // render column 0 covers column 0 and half of 1, column 1 the other
+        // half of 1 and column 2, column 2 column 3 and half of 4.
+        const double a = srgb_decode(200 / 255.0), b = srgb_decode(40 / 255.0);
+        const Photo photo = photo_of(kPhoto, [](int x, int) {
+            const std::uint8_t l = x % 2 ? 40 : 200;
+            return Rgb8{l, l, l};
+        });
+        const Photo stone =
+            shaded_photo(photo, shading_film(kPhoto, [](int, int) { return 1.0; }), 1.f, kPhoto / 1.5);
+        auto linear = [&](int x) { return srgb_decode(stone.levels[std::size_t(x)][1] / 255.0); };
+        CHECK(stone.levels[0][1] == stone.levels[1][1]);
+        CHECK(linear(0) / linear(2) == Approx((a + 0.5 * b) / (b + 0.5 * a)).epsilon(0.03));
+    }
+    SECTION("compare_material: under even light the stone is the photo, in histogram and structure") {
+        // The texture above as a grey photo of 128², and a render and its
+        // shading of that size spanning one cube side.
+        const Photo photo = photo_of(kSide, [](int x, int y) {
+            const std::uint8_t l = display_level(texture(x, y));
+            return Rgb8{l, l, l};
+        });
+        const Film even = shading_film(kSide, [](int, int) { return 0.5; });
+        const SplitFilms halves{even, even, {}};
+        const MaterialAppearance m = compare_material(photo, halves, halves, 1.f, kSide);
+        for (int c = 0; c < 3; ++c) CHECK(m.d_stone[c] < 1e-3);
+        CHECK(m.structure_stone >= 0.0);
+        CHECK(m.structure_stone < 0.02);
+    }
+    SECTION("a stone of one colour under two lights: two levels, their mean the photo's, their light 1:3") {
+        const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{180, 120, 60}; });
+        // The left half lit three times as brightly as the right, a render
+        // twice the photo's width: each render pixel takes half a photo pixel.
+        const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 0.6 : 0.2; });
+        const Photo stone = shaded_photo(photo, shading, 1.f, 2 * kPhoto);
+        for (int c = 0; c < 3; ++c) {
+            const int bright = stone.levels[0][c], dark = stone.levels[std::size_t(2 * kPhoto - 1)][c];
+            INFO("channel " << c << ": " << bright << ", " << dark);
+            CHECK(std::abs(0.5 * (bright + dark) - photo.levels[0][c]) <= 0.5);
+            CHECK(srgb_decode(bright / 255.0) / srgb_decode(dark / 255.0) == Approx(3.0).epsilon(0.06));
+            // Half the pixels at each level, none at the photo's: D = 1 + ¼ + ¼.
+            const RgbHistogram a = RgbHistogram::of(stone.foreground_levels());
+            CHECK(histogram_distance(a, RgbHistogram::of(photo.foreground_levels()), c) == Approx(1.5));
+        }
+    }
 }

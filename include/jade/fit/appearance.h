@@ -53,6 +53,14 @@ RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_
 struct MaterialAppearance {
     std::array<double, 3> s_material{}, s_photo{}, d{};
     std::array<double, 3> s_noise{};  // the noise's share taken out of S_material, levels
+    // The whole render's D that the shading alone leaves: D of the photo's
+    // own stone under the shading render (fit/display.h, shaded_photo)
+    // against the photo, as the whole render's D is taken.
+    std::array<double, 3> d_stone{};
+    // And the whole render's structure distance that the shading alone
+    // leaves: that stone's (the cross-spectrum of the shading's halves,
+    // each with the stone) against the photo's; < 0 as structure_distance.
+    double structure_stone = -1.0;
     TextureSpectrum spectrum;   // of the flattened blocks' luma, noise taken out
     double structure = -1.0;    // structure_distance(spectrum, the photo's)
     int block = 1;              // render pixels per block side

@@ -118,6 +118,18 @@ MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shadi
 // flattened in every channel.
 Photo flat_render(const Film& render, const Film& shading, float exposure, int block = 1);
 
+// The photo's own stone under a render's shading: each object pixel of the
+// shading render (the volume's mean medium, fit/appearance.h) times the
+// photo's linear colour over that pixel's footprint, the photo laid flat
+// over the image at the render's scale (`render_pixels_per_side` render
+// pixels to one cube side, which the photo spans) and repeated, each channel
+// then scaled so that its mean level is the photo's A, as the fit matches
+// it. Its histogram against the photo's is the D a render whose material
+// were the stone itself would reach under that light and on that form: the
+// part of the whole render's D that the shading holds. Pixels whose
+// footprint is mostly the photo's background are left out.
+Photo shaded_photo(const Photo& photo, const Film& shading, float exposure, double render_pixels_per_side);
+
 // The block for material_spread: the side, in pixels, over which a render of
 // this estimated relative error per pixel averages to 0.1 (at most 8).
 int material_block(double relative_error);
