@@ -79,7 +79,7 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
         m.s_noise[c] = spread.noise[c];
         m.s_photo[c] = scan.spread(c);
         m.d[c] = histogram_distance(material, scan, c);
-        m.d_stone[c] = histogram_distance(stone, photo_levels, c);
+        m.d_stone[c] = stone.total ? histogram_distance(stone, photo_levels, c) : -1.0;
     }
     return m;
 }

@@ -55,7 +55,8 @@ struct MaterialAppearance {
     std::array<double, 3> s_noise{};  // the noise's share taken out of S_material, levels
     // The whole render's D that the shading alone leaves: D of the photo's
     // own stone under the shading render (fit/display.h, shaded_photo)
-    // against the photo, as the whole render's D is taken.
+    // against the photo, as the whole render's D is taken; < 0 where no
+    // object pixel's footprint falls mostly on the photo's foreground.
     std::array<double, 3> d_stone{};
     // And the whole render's structure distance that the shading alone
     // leaves: that stone's (the cross-spectrum of the shading's halves,
