@@ -1,8 +1,10 @@
 #include "jade/io/vdb_io.h"
 
 #include "jade/io/atomic_file.h"
+#include "jade/io/vdb_check.h"
 #include "jade/core/error.h"
 #include "jade/core/memory.h"
+#include "jade/core/subprocess.h"
 
 #include <glm/common.hpp>
 #include <openvdb/openvdb.h>
@@ -12,11 +14,10 @@
 #include <openvdb/tools/Prune.h>
 #include <tbb/parallel_for.h>
 #include <unistd.h>
-#include <sys/wait.h>
-#include <sys/resource.h>
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cmath>
 #include <limits>
@@ -578,83 +579,62 @@ namespace {
 // Memory a .vdb's header, metadata and grid descriptors may take to read:
 // names, types and metadata values of a few kilobytes each, far below this.
 constexpr std::uint64_t kHeaderBudgetBytes = 512ull << 20;
+// CPU time the header may take, and the grids beyond it per voxel of each of
+// four grids: reading the demo's 256³ volume takes about 2 s of it.
+constexpr int kHeaderCpuSeconds = 60;
+constexpr double kGridCpuSecondsPerVoxel = 1.0 / 2e6;
 
-// This process's address space, in bytes (/proc/self/statm; 0 if unknown).
-std::uint64_t address_space_bytes() {
-    std::ifstream in("/proc/self/statm");
-    std::uint64_t pages = 0;
-    in >> pages;
-    return pages * std::uint64_t(::sysconf(_SC_PAGESIZE));
+// The checking program: beside this executable (jaderender and its helper
+// are built and copied together), else where the build tree made it.
+std::string vdb_check_program(const std::string& path) {
+    const std::string beside = own_executable_dir();
+    if (!beside.empty() && ::access((beside + "/" + kVdbCheckProgram).c_str(), X_OK) == 0)
+        return beside + "/" + kVdbCheckProgram;
+    if (::access(JADE_VDB_CHECK_PATH, X_OK) == 0) return JADE_VDB_CHECK_PATH;
+    fail_file(path, std::string("cannot be checked before reading it: the program ") + kVdbCheckProgram +
+                        " is neither beside this one nor at " JADE_VDB_CHECK_PATH);
 }
 
-template <typename Read>
-void check_in_child(const std::string& path, std::uint64_t budget, const char* what, Read read) {
-    int fds[2];
-    if (::pipe(fds) != 0) return;  // cannot check: read as before
-    const std::uint64_t cap = address_space_bytes() + budget;
-    const pid_t pid = ::fork();
-    if (pid < 0) {
-        ::close(fds[0]);
-        ::close(fds[1]);
-        return;
-    }
-    if (pid == 0) {  // the child: read, report, exit without unwinding
-        ::close(fds[0]);
-        const rlimit limit{rlim_t(cap), rlim_t(cap)};
-        ::setrlimit(RLIMIT_AS, &limit);
-        int code = 0;
-        std::string message;
-        try {
-            openvdb::io::File file(path);
-            file.open(false);
-            read(file);
-            file.close();
-        } catch (const std::bad_alloc&) {
-            code = 2;
-        } catch (const std::exception& e) {
-            code = 1;
-            message = one_line(e.what());
-        }
-        [[maybe_unused]] const ssize_t n = ::write(fds[1], message.data(), message.size());
-        ::_exit(code);
-    }
-    ::close(fds[1]);
-    std::string message;
-    char buf[512];
-    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) message.append(buf, std::size_t(n));
-    ::close(fds[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 1)
-        fail_file(path, "cannot read as OpenVDB: " + message);
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 2)
-        fail_file(path, std::string("damaged: its ") + what + " asks for more memory than it can need");
-    fail_file(path, std::string("damaged: OpenVDB fails reading its ") + what);
+// Reads `part` of the file in a process of its own (the program
+// jaderender-vdb-check, run_vdb_check below) and refuses the file, in one
+// line, when that process reports OpenVDB's error, runs out of its memory or
+// CPU budget, or is killed by a crash.
+void check_in_own_process(const std::string& path, VdbCheck part, std::uint64_t budget, int cpu_seconds) {
+    const std::string program = vdb_check_program(path);
+    const ProcessResult r = run_program(
+        program, {to_string(part), path, std::to_string(budget), std::to_string(cpu_seconds)});
+    const std::string what = to_string(part);
+    if (!r.started) fail_file(path, "cannot be checked before reading it: " + program + " did not start");
+    if (r.exit_code == 0) return;
+    if (r.exit_code == 1) fail_file(path, "cannot read as OpenVDB: " + r.output);
+    if (r.exit_code == 2) fail_file(path, "damaged: its " + what + " asks for more memory than it can need");
+    if (r.signal == SIGXCPU)
+        fail_file(path, "damaged: OpenVDB did not finish reading its " + what + " in " +
+                            std::to_string(cpu_seconds) + " s of CPU time");
+    if (r.signal != 0) fail_file(path, "damaged: OpenVDB fails reading its " + what);
+    fail_file(path, "cannot be checked before reading it: " + program + " exited with code " +
+                        std::to_string(r.exit_code));
 }
 
 // The existence check, header, metadata and every grid's descriptor and
-// metadata, read in a child process (check_in_child): a damaged .vdb can make
-// OpenVDB allocate whatever a corrupt length field in its header says (a
-// "grid type" of 1.45 GB, 8.6 GB resident) before it fails.
+// metadata, read in a process of its own: a damaged .vdb can make OpenVDB
+// allocate whatever a corrupt length field in its header says (a "grid type"
+// of 1.45 GB, 8.6 GB resident) before it fails.
 void check_vdb_header(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) fail_file(path, "no such file");
-    check_in_child(path, kHeaderBudgetBytes, "header", [](openvdb::io::File& file) {
-        file.getMetadata();
-        file.readAllGridMetadata();
-    });
+    check_in_own_process(path, VdbCheck::Header, kHeaderBudgetBytes, kHeaderCpuSeconds);
 }
 
-// Every grid of a jaderender volume of s³ voxels read whole in a child
-// process, allowed the memory four float grids of the cube take (and the
+// Every grid of a jaderender volume of s³ voxels read whole in a process of
+// its own, allowed the memory four float grids of the cube take (and the
 // header's budget) and no more: a file that crashes OpenVDB or asks for more
 // is refused before this process reads it.
 void check_vdb_grids(const std::string& path, int resolution) {
     const std::uint64_t s = std::uint64_t(resolution);
-    check_in_child(path, kHeaderBudgetBytes + 48 * s * s * s, "grids",
-                   [](openvdb::io::File& file) { file.getGrids(); });
+    const double voxels = 4.0 * double(s * s * s);
+    check_in_own_process(path, VdbCheck::Grids, kHeaderBudgetBytes + 48 * s * s * s,
+                         kHeaderCpuSeconds + int(std::ceil(voxels * kGridCpuSecondsPerVoxel)));
 }
 
 }  // namespace

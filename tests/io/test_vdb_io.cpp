@@ -173,6 +173,35 @@ TEST_CASE("a file cut short or damaged is refused, wherever it is cut", "[vdb]")
     CHECK_THROWS_AS(read_material_vdb(dir.file("flipped.vdb")), Error);
 }
 
+TEST_CASE("a header that asks for gigabytes is refused by the checking process, not allocated here", "[vdb]") {
+    // OpenVDB reads a grid's type name by the length written before it; made
+    // 1.44 GB, it would allocate that much before failing. The check reads
+    // the header in jaderender-vdb-check under a 512 MB budget
+    // (jade/io/vdb_check.h), and the refusal names the file in one line.
+    TempDir dir;
+    write_material_vdb(dir.file("v.vdb"), sample_volume(8, OpticalParams{}));
+    std::string bytes;
+    {
+        std::ifstream in(dir.file("v.vdb"), std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const std::size_t type = bytes.find("Tree_");
+    REQUIRE(type != std::string::npos);
+    REQUIRE(type >= 4);
+    const std::uint32_t huge = 0x56000000u;
+    for (int b = 0; b < 4; ++b) bytes[type - 4 + std::size_t(b)] = char((huge >> (8 * b)) & 0xff);
+    std::ofstream(dir.file("huge.vdb"), std::ios::binary) << bytes;
+    try {
+        read_material_vdb(dir.file("huge.vdb"));
+        FAIL("the damaged file was read");
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        CHECK(what.find(dir.file("huge.vdb")) != std::string::npos);
+        CHECK(what.find("its header asks for more memory") != std::string::npos);
+        CHECK(what.find('\n') == std::string::npos);
+    }
+}
+
 TEST_CASE("the contrast travels in the file, and clipped voxels come back with the same coefficients", "[vdb]") {
     TempDir dir;
     OpticalParams optics;
