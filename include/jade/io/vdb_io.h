@@ -1,6 +1,7 @@
 #pragma once
 // The material volume on disk as OpenVDB (docs/design.md, "The .vdb file"). OpenVDB is confined to
-// src/vdb_io.cpp: it compiles slowly, and the renderer samples plain arrays.
+// src/io/vdb_io.cpp and src/io/vdb_check.cpp (vdb_check.h): it compiles slowly, and the
+// renderer samples plain arrays.
 //
 // Grids (format 2):
 //   sigma_s  Vec3f  scattering coefficient per world unit, RGB         } fog volumes, background 0,
