@@ -680,7 +680,7 @@ void read_levels_grid(openvdb::io::File& file, const std::string& path, Material
 // Format 2: the coefficient grids (where active: inside the mesh when
 // masked) checked against the levels read, so that a file whose grids
 // another tool edited is refused rather than rendered as if unedited. Read
-// whole, as check_vdb_grids read them in its child process.
+// whole, as check_vdb_grids had jaderender-vdb-check read them.
 void verify_coefficient_grids(openvdb::io::File& file, const std::string& path, const MaterialVolume& v) {
     const CoefficientTable table(v.optics, v.cube.side);
     const int s = v.resolution;
