@@ -91,6 +91,11 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
     cmd.add_option("--warp", o.noise.warp, "How far the fBm displaces the layers, in cube sides (--structure fbm)")
         ->capture_default_str();
+    cmd.add_option("--veins", o.noise.veins,
+                   "Take the noise's absolute value: its zero set gets the photo's darkest colours, in thin "
+                   "veins that branch and join as marble's do (with --structure photo the estimate searches "
+                   "veins only; it does not choose them by itself)")
+        ->capture_default_str();
     cmd.add_option("--seed", o.noise.seed, "Noise seed")->capture_default_str();
     cmd.add_option("--match", o.match, "Colour matching: 'joint' (real photo colours) or "
                                        "'per-channel' (the paper's)")
@@ -155,11 +160,11 @@ int run_volume(VolumeOptions& o) {
     }
 
     std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s: frequency %.2f, "
-                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f; photo %.2f s, "
+                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f%s; photo %.2f s, "
                 "structure+noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
                 volume.resolution, double(volume.levels.size()) / 1e6, jade::to_string(match),
                 photo.foreground_count(), jade::to_string(structure), noise.frequency, noise.k, noise.stretch,
-                noise.angle, noise.bands, noise.warp, photo_s, volume_s, write_s, o.out.c_str(),
+                noise.angle, noise.bands, noise.warp, noise.veins ? ", veins" : "", photo_s, volume_s, write_s, o.out.c_str(),
                 jade::format_megabytes(double(jade::file_size(o.out))).c_str(), total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
     return 0;

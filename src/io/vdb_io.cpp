@@ -258,6 +258,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:angle", openvdb::DoubleMetadata(v.noise.angle));
     meta.insertMeta("jade:bands", openvdb::DoubleMetadata(v.noise.bands));
     meta.insertMeta("jade:warp", openvdb::DoubleMetadata(v.noise.warp));
+    meta.insertMeta("jade:veins", openvdb::Int32Metadata(v.noise.veins ? 1 : 0));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
     meta.insertMeta("jade:extinction", openvdb::StringMetadata(to_string(v.optics.extinction)));
     meta.insertMeta("jade:ds", openvdb::DoubleMetadata(v.optics.ds));
@@ -415,6 +416,12 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:angle")) v.noise.angle = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:bands")) v.noise.bands = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:warp")) v.noise.warp = m->value();
+    // Files from before the veins have none.
+    if (meta.getMetadata<openvdb::Int32Metadata>("jade:veins") || meta.getMetadata<openvdb::Int64Metadata>("jade:veins")) {
+        const std::int64_t veins = required_int(meta, path, "jade:veins");
+        if (veins != 0 && veins != 1) fail_file(path, "metadata 'jade:veins' must be 0 or 1");
+        v.noise.veins = veins == 1;
+    }
     v.match = parse_match_mode(required_meta<std::string>(meta, path, "jade:match"));
     // Files from before the grey extinction have §5.1's.
     v.optics.extinction = Extinction::Paper;

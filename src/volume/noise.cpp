@@ -125,6 +125,7 @@ Fbm::Fbm(const NoiseParams& params)
     inv_stretch_ = 1.0 / params.stretch;
     bands_per_voxel_ = params.bands / params.resolution;
     warp_ = params.warp * params.resolution / amplitude_sum();
+    veins_ = params.veins;
     offset_.resize(3 * std::size_t(octaves_));
     for (std::size_t i = 0; i < offset_.size(); ++i)
         offset_[i] = 256.0 * to_unit_double(splitmix64((std::uint64_t(params.seed) << 32) ^ i));
@@ -154,8 +155,9 @@ double Fbm::operator()(double px, double py, double pz) const {
         fr *= 2.0;
         amp *= k_;
     }
-    if (bands_per_voxel_ > 0.0) return std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum));
-    return sum;
+    const double value =
+        bands_per_voxel_ > 0.0 ? std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum)) : sum;
+    return veins_ ? std::abs(value) : value;
 }
 
 void fbm_slice(const Fbm& fbm, int resolution, int k, float* out) {

@@ -157,15 +157,19 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     StructureEstimate out;
     out.photo = texture.spectrum;
     NoiseParams paper = base;
-    paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0;
+    paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0, paper.veins = false;
     out.paper = evaluate(paper, texture);
 
     // Two starts, the paper's fBm and a marble, because the two families'
     // optima are far apart and coordinate descent would not cross between them.
-    NoiseParams marble = paper;
+    // Asked for veins (base.veins), both start and stay so: the measures
+    // below do not choose veins by themselves (docs/design.md, "Structure").
+    NoiseParams fbm = paper;
+    fbm.veins = base.veins;
+    NoiseParams marble = fbm;
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
-    StructureFit best_fit = out.paper;
-    for (NoiseParams start : {paper, marble}) {
+    StructureFit best_fit = base.veins ? evaluate(fbm, texture) : out.paper;
+    for (NoiseParams start : {fbm, marble}) {
         start.angle = texture.spectrum.orientation;
         const StructureFit fit = descend(start, texture);
         if (objective(fit, texture.spectrum) < objective(best_fit, texture.spectrum)) best_fit = fit;

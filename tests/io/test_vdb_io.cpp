@@ -65,6 +65,7 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.angle == b.noise.angle);
     CHECK(a.noise.bands == b.noise.bands);
     CHECK(a.noise.warp == b.noise.warp);
+    CHECK(a.noise.veins == b.noise.veins);
     CHECK(a.structure == b.structure);
     CHECK(a.match == b.match);
     CHECK(a.optics.extinction == b.optics.extinction);
@@ -230,7 +231,7 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     TempDir dir;
     NoiseParams marble;
     marble.frequency = 2.83, marble.k = 0.4, marble.stretch = 2.0, marble.angle = 30.0;
-    marble.bands = 12.0, marble.warp = 0.7;
+    marble.bands = 12.0, marble.warp = 0.7, marble.veins = true;
     MaterialVolume v = sample_volume(16, OpticalParams{}, marble);
     v.structure = StructureMode::Photo;
     write_material_vdb(dir.file("v.vdb"), v);

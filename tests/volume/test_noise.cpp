@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -174,4 +175,49 @@ TEST_CASE("noise parameters out of range are rejected", "[noise]") {
     CHECK_THROWS(params(64, 0, 0.0, 1).validate());
     CHECK_THROWS(params(64, -1, 0.5, 1).validate());
     CHECK_NOTHROW(params(64, 0, 0.5, 1).validate());
+}
+
+namespace {
+
+// The share of the slice's darkest 5 % of pixels (its lowest values) that
+// touch a pixel outside them (4-neighbours): near 1 for thin lines, lower for
+// blobs, whose inside pixels touch only their own.
+double darkest_edge_share(const std::vector<float>& slice, int s) {
+    std::vector<float> sorted = slice;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 20, sorted.end());
+    const float threshold = sorted[sorted.size() / 20];
+    auto dark = [&](int x, int y) { return slice[std::size_t(y) * s + x] < threshold; };
+    int n = 0, edge = 0;
+    for (int y = 1; y + 1 < s; ++y)
+        for (int x = 1; x + 1 < s; ++x)
+            if (dark(x, y)) {
+                ++n;
+                edge += !dark(x - 1, y) || !dark(x + 1, y) || !dark(x, y - 1) || !dark(x, y + 1);
+            }
+    return double(edge) / n;
+}
+
+}  // namespace
+
+TEST_CASE("veins: the noise's absolute value, whose darkest values lie in thin lines", "[noise]") {
+    NoiseParams plain = params(256, 0, 0.5, 5);
+    plain.frequency = 2.0;
+    NoiseParams veins = plain;
+    veins.veins = true;
+    const Fbm f(plain), v(veins);
+    SplitMix64 rng(11);
+    for (int i = 0; i < 1000; ++i) {
+        const double x = 256 * rng.uniform(), y = 256 * rng.uniform(), z = 256 * rng.uniform();
+        REQUIRE(v(x, y, z) == std::abs(f(x, y, z)));
+    }
+    // The lowest values of |noise| follow the zero set of the noise, a curve
+    // in a slice (the 3D zero set is a surface); the lowest of the noise
+    // itself are the bottoms of its basins, blobs.
+    std::vector<float> a(256 * 256), b(256 * 256);
+    fbm_slice(f, 256, 100, a.data());
+    fbm_slice(v, 256, 100, b.data());
+    const double blobs = darkest_edge_share(a, 256), lines = darkest_edge_share(b, 256);
+    CAPTURE(blobs, lines);
+    CHECK(lines > 0.75);  // 0.88 measured
+    CHECK(blobs < 0.4);   // 0.26 measured
 }

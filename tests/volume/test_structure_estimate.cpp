@@ -75,3 +75,25 @@ TEST_CASE("structure estimate: marble bands are told from grain", "[structure]")
     REQUIRE(std::abs(got.angle - truth.angle) < 10.0);
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
 }
+
+TEST_CASE("structure estimate: asked for veins, it recovers their frequency and keeps the paper's fBm to compare",
+          "[structure]") {
+    NoiseParams truth;
+    truth.resolution = 128;
+    truth.seed = 9;
+    truth.veins = true;
+    truth.frequency = 4.0;
+    truth.k = 0.5;
+    NoiseParams base;
+    base.resolution = 128;
+    base.veins = true;
+    const StructureEstimate e = estimate_structure(photo_of(truth), base);
+    const NoiseParams& got = e.chosen.noise;
+    CAPTURE(got.frequency, got.k, got.stretch, got.bands, e.chosen.distance, e.paper.distance);
+    REQUIRE(got.veins);
+    REQUIRE_FALSE(e.paper.noise.veins);
+    REQUIRE(got.bands == 0.0);
+    REQUIRE(got.frequency >= truth.frequency / 2.0);
+    REQUIRE(got.frequency <= truth.frequency * 2.0);
+    REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
+}

@@ -15,6 +15,12 @@
 // sin 2π b(w/s + a·Noise/bound): b layers per side across the angle,
 // displaced by the fBm by up to a cube sides, so that slices show thin,
 // sharp, continuous veins that wander as the fBm does.
+// With `veins` the value is the absolute value of either (docs/design.md,
+// "Structure"): its zero set, a surface in the solid and a network of curves
+// in a slice, becomes the lowest values, so colour matching puts the photo's
+// darkest colours there in lines that branch and join, as marble's veins
+// do (the "turbulence" of Perlin 1985 takes |·| per octave and creases
+// every octave; one |·| of the sum creases along the sum's zero set alone).
 //
 // x is in voxel units, sampled at voxel centres (i + 1/2). Everything is a
 // pure function of (parameters, position): a slice, a voxel or the whole cube
@@ -35,6 +41,7 @@ struct NoiseParams {
     double angle = 0.0;      // degrees counterclockwise from +x toward +y (as seen from +z)
     double bands = 0.0;      // b, layers per cube side across `angle`; 0 = plain fBm
     double warp = 0.1;       // a, how far (cube sides) the fBm displaces the layers
+    bool veins = false;      // the absolute value: the zero set as the darkest veins
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;
@@ -77,6 +84,7 @@ private:
     double along_x_, along_y_;     // unit direction the structure is stretched along
     double inv_stretch_;
     double bands_per_voxel_, warp_;
+    bool veins_;
     // Each octave is shifted by its own seed-derived offset. Fr_i = 2^i / s puts
     // every octave's lattice points on the same voxel positions (the cube's
     // corner is a zero of every octave); the shifts decorrelate them.
