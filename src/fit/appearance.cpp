@@ -49,6 +49,34 @@ std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_
     return {h.spread(0), h.spread(1), h.spread(2)};
 }
 
+namespace {
+
+// D at every block from 1 to kMaxBlock pixels, and the block D is read at:
+// the smallest from m.block on whose noise (material_spread's share) is at
+// most kDNoiseShare of the photo's spread at that scale in every channel,
+// else the largest.
+void choose_d_block(MaterialAppearance& m, const Photo& photo, const SplitFilms& render, const SplitFilms& shading,
+                    float exposure, double render_pixels_per_side) {
+    const Film whole = render.merged(), whole_shading = shading.merged();
+    m.d_block = 0;
+    for (int b = 1; b <= MaterialAppearance::kMaxBlock; ++b) {
+        const RgbHistogram material =
+            RgbHistogram::of(flat_render(whole, whole_shading, exposure, b).foreground_levels());
+        const RgbHistogram scan = photo_block_histogram(photo, render_pixels_per_side / b);
+        for (int c = 0; c < 3; ++c) m.d_by_block[b - 1][c] = histogram_distance(material, scan, c);
+        if (m.d_block || b < m.block) continue;
+        const MaterialSpread spread = material_spread(render, shading, exposure, b);
+        bool quiet = true;
+        for (int c = 0; c < 3; ++c)
+            quiet = quiet && spread.noise[c] <= MaterialAppearance::kDNoiseShare * scan.spread(c);
+        if (quiet) m.d_block = b;
+    }
+    if (!m.d_block) m.d_block = MaterialAppearance::kMaxBlock;
+    m.d = m.d_by_block[m.d_block - 1];
+}
+
+}  // namespace
+
 MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render, const SplitFilms& shading,
                                     float exposure, double render_pixels_per_side) {
     MaterialAppearance m;
@@ -66,6 +94,7 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
                                         photo_luma(flat_render(render.second, shading.second, exposure, m.block)),
                                         blocks_per_side);
     m.structure = structure_distance(m.spectrum, photo_spectrum(photo));
+    choose_d_block(m, photo, render, shading, exposure, render_pixels_per_side);
     const RgbHistogram stone = RgbHistogram::of(
         shaded_photo(photo, shading.merged(), exposure, render_pixels_per_side).foreground_levels());
     const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
@@ -78,7 +107,6 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
         m.s_material[c] = spread.s[c];
         m.s_noise[c] = spread.noise[c];
         m.s_photo[c] = scan.spread(c);
-        m.d[c] = histogram_distance(material, scan, c);
         m.d_stone[c] = stone.total ? histogram_distance(stone, photo_levels, c) : -1.0;
     }
     return m;

@@ -276,7 +276,7 @@ double shared_variance(const std::vector<ImageF32>& render, const std::vector<Im
 
 int material_block(double relative_error) {
     constexpr double kBlockError = 0.1;
-    return std::clamp(int(std::ceil(relative_error / kBlockError)), 1, 8);
+    return std::clamp(int(std::ceil(relative_error / kBlockError)), 1, kMaxMaterialBlock);
 }
 
 MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shading, float exposure, int block) {

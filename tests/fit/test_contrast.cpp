@@ -45,10 +45,14 @@ Film exact_film(int w, int h, F value) {
 // across the image times stripes of two albedos, and its shading render
 // (the stripes' mean albedo under the same ramp).
 struct ShadedStripes {
-    explicit ShadedStripes(int width = 40, int height = 30) : w(width), h(height) {}
+    // `ramps`: instead of two levels, a sawtooth across 240 rows, whose
+    // histogram is smooth and which blocks of a few rows leave as it is.
+    explicit ShadedStripes(int width = 40, int height = 30, bool ramps = false)
+        : w(width), h(height), ramps(ramps) {}
     int w, h;
+    bool ramps;
     double shade(int x) const { return 0.2 + 0.8 * x / (w - 1.0); }
-    static double stripe(int y) { return (y / 3) % 2 ? 0.25 : 0.45; }
+    double stripe(int y) const { return ramps ? 0.25 + 0.2 * (y % 240) / 239.0 : (y / 3) % 2 ? 0.25 : 0.45; }
     Film shading = exact_film(w, h, [this](int x, int) { return Spectrum(float(shade(x) * 0.35)); });
     Film render = exact_film(w, h, [this](int x, int y) { return Spectrum(float(shade(x) * stripe(y))); });
 
@@ -232,6 +236,51 @@ TEST_CASE("material D: the shading divides out of the histogram distance", "[fit
     }
     const MaterialAppearance far = compare_material(wider, render, shading, 1.f, double(w));
     for (int c = 0; c < 3; ++c) CHECK(far.d[c] > 0.5);
+}
+
+TEST_CASE("material D: read over blocks where the render's noise is small beside the photo's spread",
+          "[fitter][contrast]") {
+    // A sawtooth of levels under the ramp, the photo its flat levels; the
+    // render's two halves with 8 samples a pixel each, every sample its
+    // pixel's value × X, X exponential. Over one pixel the noise spreads the
+    // levels as much as the stone does; D is read over the smallest blocks
+    // where its spread is at most a quarter of the photo's there, and comes
+    // nearer the exact render's D over those blocks than one pixel's D does
+    // to one pixel's.
+    const ShadedStripes scene(240, 240, true);  // square: the photo spans its larger side
+    Photo photo;
+    photo.width = scene.w;
+    photo.height = scene.h;
+    for (double level : scene.flat_levels()) {
+        const auto l = std::uint8_t(std::lround(level));
+        photo.levels.push_back({l, l, l});
+        photo.foreground.push_back(1);
+    }
+    const SplitFilms shading{scene.shading, scene.shading, {}};
+    const double side = double(scene.w);
+    const MaterialAppearance exact = compare_material(photo, {scene.render, scene.render, {}}, shading, 1.f, side);
+    CHECK(exact.d_block == 1);  // no noise: one pixel's blocks
+    auto exponential = [](SplitMix64& rng) { return -std::log(1.0 - rng.uniform()); };
+    const SplitFilms noisy{scene.noisy_render(8, 1ull << 40, exponential),
+                           scene.noisy_render(8, 2ull << 40, exponential), {}};
+    const MaterialAppearance m = compare_material(photo, noisy, shading, 1.f, side);
+    const int b = m.d_block;
+    INFO("D over " << b << " px: " << m.d[0] << ", the exact render's " << exact.d_by_block[b - 1][0]
+                   << "; over one pixel " << m.d_by_block[0][0] << " against " << exact.d_by_block[0][0]);
+    REQUIRE(b > 1);
+    REQUIRE(b < MaterialAppearance::kMaxBlock);
+    // The rule: quiet enough at b, not at the block before.
+    auto noise_share = [&](int block) {
+        const double photo_spread = photo_block_histogram(photo, side / block).spread(0);
+        return material_spread(noisy, shading, 1.f, block).noise[0] / photo_spread;
+    };
+    CHECK(noise_share(b) <= MaterialAppearance::kDNoiseShare);
+    CHECK(noise_share(b - 1) > MaterialAppearance::kDNoiseShare);
+    CHECK(noise_share(1) > 0.7);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(m.d[c] == m.d_by_block[b - 1][c]);
+        CHECK(std::abs(m.d[c] - exact.d_by_block[b - 1][c]) < 0.7 * std::abs(m.d_by_block[0][c] - exact.d_by_block[0][c]));
+    }
 }
 
 TEST_CASE("photo spread at a coarser scale averages the finer texture away", "[fitter][contrast]") {

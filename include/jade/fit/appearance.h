@@ -48,10 +48,23 @@ RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_
 // 0.1 (material_block), and the photo is averaged over blocks of the same
 // footprint on the cube. S_material and the structure are measured on what
 // the halves share (material_spread, texture_cross_spectrum), so the
-// render's noise is not counted as the stone's spread or as fine structure;
-// the histogram distance D is of the merged halves' blocks, noise and all.
+// render's noise is not counted as the stone's spread or as fine structure.
+// A histogram cannot be taken from what two halves share, so the histogram
+// distance D is of the merged halves' blocks, noise and all, over blocks
+// large enough that the noise's spread is at most kDNoiseShare of the
+// photo's at that scale in every channel (the noise then widens the
+// histogram by 3 % at most): on a white marble whose photo spreads 7
+// levels, the noise of a 256-spp render's pixel spread 8–10, and D of one
+// pixel's blocks measured the noise more than the stone (docs/design.md,
+// "Appearance").
 struct MaterialAppearance {
+    static constexpr double kDNoiseShare = 0.25;
+    static constexpr int kMaxBlock = kMaxMaterialBlock;
     std::array<double, 3> s_material{}, s_photo{}, d{};
+    // D over blocks of 1 to kMaxBlock pixels (d_by_block[b − 1]): methods
+    // measured at different blocks compare at the larger of theirs.
+    std::array<std::array<double, 3>, kMaxBlock> d_by_block{};
+    int d_block = 1;            // the block of d: the smallest from `block` on where the noise is that small
     std::array<double, 3> s_noise{};  // the noise's share taken out of S_material, levels
     // The whole render's D that the shading alone leaves: D of the photo's
     // own stone under the shading render (fit/display.h, shaded_photo)

@@ -131,7 +131,9 @@ Photo flat_render(const Film& render, const Film& shading, float exposure, int b
 Photo shaded_photo(const Photo& photo, const Film& shading, float exposure, double render_pixels_per_side);
 
 // The block for material_spread: the side, in pixels, over which a render of
-// this estimated relative error per pixel averages to 0.1 (at most 8).
+// this estimated relative error per pixel averages to 0.1 (at most
+// kMaxMaterialBlock).
+constexpr int kMaxMaterialBlock = 8;
 int material_block(double relative_error);
 
 // The exposure that gives the render's object pixels the photo's mean linear
