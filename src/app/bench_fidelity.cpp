@@ -113,6 +113,12 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     std::printf("  material blocks: %d px (%zu blocks) and %d px (%zu blocks); D's blocks %d px and %d px, "
                 "compared over %d px\n",
                 dm.block, dm.blocks, pm.block, pm.blocks, dm.d_block, pm.d_block, d_block);
+    std::printf("  noise over D's blocks, of the photo's spread there: (%.2f, %.2f, %.2f) and (%.2f, %.2f, %.2f); "
+                "the goal is <= %.2f\n",
+                dm.d_noise[0] / dm.d_photo_spread[0], dm.d_noise[1] / dm.d_photo_spread[1],
+                dm.d_noise[2] / dm.d_photo_spread[2], pm.d_noise[0] / pm.d_photo_spread[0],
+                pm.d_noise[1] / pm.d_photo_spread[1], pm.d_noise[2] / pm.d_photo_spread[2],
+                MaterialAppearance::kDNoiseShare);
 }
 
 }  // namespace

@@ -67,8 +67,11 @@ void choose_d_block(MaterialAppearance& m, const Photo& photo, const SplitFilms&
         if (m.d_block || b < m.block) continue;
         const MaterialSpread spread = material_spread(render, shading, exposure, b);
         bool quiet = true;
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
+            m.d_noise[c] = spread.noise[c];
+            m.d_photo_spread[c] = scan.spread(c);
             quiet = quiet && spread.noise[c] <= MaterialAppearance::kDNoiseShare * scan.spread(c);
+        }
         if (quiet) m.d_block = b;
     }
     if (!m.d_block) m.d_block = MaterialAppearance::kMaxBlock;

@@ -275,6 +275,7 @@ TEST_CASE("material D: read over blocks where the render's noise is small beside
         return material_spread(noisy, shading, 1.f, block).noise[0] / photo_spread;
     };
     CHECK(noise_share(b) <= MaterialAppearance::kDNoiseShare);
+    CHECK(m.d_noise[0] / m.d_photo_spread[0] == Approx(noise_share(b)));
     CHECK(noise_share(b - 1) > MaterialAppearance::kDNoiseShare);
     CHECK(noise_share(1) > 0.7);
     for (int c = 0; c < 3; ++c) {

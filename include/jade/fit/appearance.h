@@ -65,6 +65,10 @@ struct MaterialAppearance {
     // measured at different blocks compare at the larger of theirs.
     std::array<std::array<double, 3>, kMaxBlock> d_by_block{};
     int d_block = 1;            // the block of d: the smallest from `block` on where the noise is that small
+    // The noise's spread over d_block's blocks and the photo's there,
+    // levels (above kDNoiseShare of it where even kMaxBlock's blocks are
+    // not that quiet: d_block is then kMaxBlock).
+    std::array<double, 3> d_noise{}, d_photo_spread{};
     std::array<double, 3> s_noise{};  // the noise's share taken out of S_material, levels
     // The whole render's D that the shading alone leaves: D of the photo's
     // own stone under the shading render (fit/display.h, shaded_photo)
