@@ -417,7 +417,8 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:bands")) v.noise.bands = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:warp")) v.noise.warp = m->value();
     // Files from before the veins have none.
-    if (meta.getMetadata<openvdb::Int32Metadata>("jade:veins") || meta.getMetadata<openvdb::Int64Metadata>("jade:veins")) {
+    if (meta.getMetadata<openvdb::Int32Metadata>("jade:veins") ||
+        meta.getMetadata<openvdb::Int64Metadata>("jade:veins")) {
         const std::int64_t veins = required_int(meta, path, "jade:veins");
         if (veins != 0 && veins != 1) fail_file(path, "metadata 'jade:veins' must be 0 or 1");
         v.noise.veins = veins == 1;

@@ -280,7 +280,8 @@ TEST_CASE("material D: read over blocks where the render's noise is small beside
     CHECK(noise_share(1) > 0.7);
     for (int c = 0; c < 3; ++c) {
         CHECK(m.d[c] == m.d_by_block[b - 1][c]);
-        CHECK(std::abs(m.d[c] - exact.d_by_block[b - 1][c]) < 0.7 * std::abs(m.d_by_block[0][c] - exact.d_by_block[0][c]));
+        CHECK(std::abs(m.d[c] - exact.d_by_block[b - 1][c]) <
+              0.7 * std::abs(m.d_by_block[0][c] - exact.d_by_block[0][c]));
     }
 }
 
