@@ -257,6 +257,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
                                                                                  : "fitting k_s",
                                              std::size_t(o.fit.max_renders));
         res.fit = session.run(bar.get());
+        for (const std::string& w : res.fit.warnings) res.warnings.push_back("fit: " + w);
         res.seconds_fit = res.fit.seconds;
     }
     volume.optics.ks = res.fit.ks;

@@ -208,7 +208,8 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
         {"density_scale", fit.density_scale}, {"converged", fit.converged}, {"channel_status", status}};
     if (o.fit.method == FitMethod::Contrast)
         j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
-                  {"material", fit.s_material}, {"material_block", fit.material_block}};
+                  {"material", fit.s_material}, {"material_block", fit.material_block},
+                  {"contrast_fitted", fit.contrast_fitted}};
     if (!fit.records.empty()) add_final_residuals(fit, j);
     return j;
 }
@@ -307,9 +308,17 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
             std::fprintf(stderr, "jaderender: warning: fit: %s\n", fit.reason[c].c_str());
     const FitRecord* best = fit.records.empty() ? nullptr : &fit.records.back();
     const bool contrast = o.fit.method == FitMethod::Contrast;
-    char goal[96];
-    std::snprintf(goal, sizeof goal, contrast ? "|dA| < %g and |dS| < %g in every channel" : "|dA| < %g in every channel",
-                  fit.limits.tolerance, o.fit.s_tolerance);
+    const bool all_s = fit.contrast_fitted == std::array<bool, 3>{true, true, true};
+    const bool no_s = fit.contrast_fitted == std::array<bool, 3>{false, false, false};
+    char goal[160];
+    if (!contrast || no_s)
+        std::snprintf(goal, sizeof goal, "|dA| < %g in every channel", fit.limits.tolerance);
+    else if (all_s)
+        std::snprintf(goal, sizeof goal, "|dA| < %g and |dS| < %g in every channel", fit.limits.tolerance,
+                      o.fit.s_tolerance);
+    else
+        std::snprintf(goal, sizeof goal, "|dA| < %g in every channel, |dS| < %g where the contrast was fitted",
+                      fit.limits.tolerance, o.fit.s_tolerance);
     std::printf("fit (%s): %d renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
                 "(%.3f, %.3f, %.3f); %s\n",
                 to_string(o.fit.method), fit.renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],

@@ -49,32 +49,44 @@ std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_
     return {h.spread(0), h.spread(1), h.spread(2)};
 }
 
+QuietBlock quiet_block(const Photo& photo, const SplitFilms& render, const SplitFilms& shading, float exposure,
+                       double render_pixels_per_side, int first, double share) {
+    QuietBlock q;
+    q.block = std::clamp(first, 1, kMaxMaterialBlock);
+    for (;;) {
+        q.spread = material_spread(render, shading, exposure, q.block);
+        q.photo_spread = photo_spread(photo, render_pixels_per_side / q.block);
+        // How many times too noisy, in the channel that is most.
+        double excess = 0.0;
+        for (int c = 0; c < 3; ++c)
+            excess = std::max(excess, q.spread.noise[c] / std::max(share * q.photo_spread[c], 1e-9));
+        q.quiet = excess <= 1.0;
+        if (q.quiet || q.block == kMaxMaterialBlock) return q;
+        // Independent pixels' noise falls as 1/block, and the photo's spread
+        // falls too as its blocks grow: no block below this one is quiet.
+        const int next = int(std::ceil(q.block * std::min(excess, double(kMaxMaterialBlock))));
+        q.block = std::clamp(next, q.block + 1, kMaxMaterialBlock);
+    }
+}
+
 namespace {
 
-// D at every block from 1 to kMaxBlock pixels, and the block D is read at:
-// the smallest from m.block on whose noise (material_spread's share) is at
-// most kDNoiseShare of the photo's spread at that scale in every channel,
-// else the largest.
+// D at every block from 1 to kMaxBlock pixels, and the block D is read at
+// (quiet_block at kDNoiseShare from m.block).
 void choose_d_block(MaterialAppearance& m, const Photo& photo, const SplitFilms& render, const SplitFilms& shading,
                     float exposure, double render_pixels_per_side) {
     const Film whole = render.merged(), whole_shading = shading.merged();
-    m.d_block = 0;
     for (int b = 1; b <= MaterialAppearance::kMaxBlock; ++b) {
         const RgbHistogram material =
             RgbHistogram::of(flat_render(whole, whole_shading, exposure, b).foreground_levels());
         const RgbHistogram scan = photo_block_histogram(photo, render_pixels_per_side / b);
         for (int c = 0; c < 3; ++c) m.d_by_block[b - 1][c] = histogram_distance(material, scan, c);
-        if (m.d_block || b < m.block) continue;
-        const MaterialSpread spread = material_spread(render, shading, exposure, b);
-        bool quiet = true;
-        for (int c = 0; c < 3; ++c) {
-            m.d_noise[c] = spread.noise[c];
-            m.d_photo_spread[c] = scan.spread(c);
-            quiet = quiet && spread.noise[c] <= MaterialAppearance::kDNoiseShare * scan.spread(c);
-        }
-        if (quiet) m.d_block = b;
     }
-    if (!m.d_block) m.d_block = MaterialAppearance::kMaxBlock;
+    const QuietBlock q = quiet_block(photo, render, shading, exposure, render_pixels_per_side, m.block,
+                                     MaterialAppearance::kDNoiseShare);
+    m.d_block = q.block;
+    m.d_noise = q.spread.noise;
+    m.d_photo_spread = q.photo_spread;
     m.d = m.d_by_block[m.d_block - 1];
 }
 

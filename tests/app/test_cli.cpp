@@ -15,6 +15,7 @@ using jade::read_image_f32;
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -722,6 +723,37 @@ TEST_CASE("pipeline: flat, tiny, dark, white and clipped photos end with explain
         else
             CHECK_THAT(r.out, Catch::Contains("|dA| < 1 and |dS| < 1.5 in every channel"));
     }
+}
+
+TEST_CASE("pipeline: a near-white photo clips the render at the found exposure: a warning, and A stays near",
+          "[cli][fit]") {
+    // Levels 248–252: at the photo's mean the lit cow has nearly every pixel
+    // at 255 at any exposure. That is the photo's doing, not a wrong
+    // --exposure: a warning, not "the render clips". A is flat in k_s there,
+    // and the brightness check once stepped by the slope from +4.8 levels
+    // to −91; it keeps only steps that come nearer.
+    TempDir dir;
+    const int w = 50, h = 50;
+    std::vector<std::uint8_t> px;
+    for (int i = 0; i < w * h; ++i) {
+        const auto l = std::uint8_t(248 + i % 5);
+        px.insert(px.end(), {l, l, std::uint8_t(l - 2), 255});
+    }
+    const std::string photo = dir.file("white.png");
+    jade::write_image_u8(photo, w, h, 4, px);
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 12 --out " +
+                                  dir.file("out"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("of the render's object pixels are at level 255: the photo's mean level") &&
+                          Catch::Contains("leaves the object's shading no room"));
+    CHECK_THAT(r.err, !Catch::Contains("(the render clips)"));
+    const std::size_t at = r.out.find("final render against the photo: A (");
+    REQUIRE(at != std::string::npos);
+    double a[3], photo_a[3];
+    REQUIRE(std::sscanf(r.out.c_str() + at, "final render against the photo: A (%lf, %lf, %lf) / (%lf, %lf, %lf)", &a[0],
+                        &a[1], &a[2], &photo_a[0], &photo_a[1], &photo_a[2]) == 6);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(a[c] - photo_a[c]) < 6.0);
 }
 
 TEST_CASE("pipeline: a render that clips at a given exposure is reported, not converged", "[cli][fit]") {

@@ -15,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -88,6 +89,19 @@ struct ShadedStripes {
             (std::accumulate(l.begin(), l.end(), 0.0) / l.size() < target ? lo : hi) = mid;
         }
         return levels_at(0.5 * (lo + hi));
+    }
+
+    // Those levels as the photo: the stone with no shading and no noise.
+    Photo flat_photo() const {
+        Photo photo;
+        photo.width = w;
+        photo.height = h;
+        for (double level : flat_levels()) {
+            const auto l = std::uint8_t(std::lround(level));
+            photo.levels.push_back({l, l, l});
+            photo.foreground.push_back(1);
+        }
+        return photo;
     }
 };
 
@@ -248,14 +262,7 @@ TEST_CASE("material D: read over blocks where the render's noise is small beside
     // nearer the exact render's D over those blocks than one pixel's D does
     // to one pixel's.
     const ShadedStripes scene(240, 240, true);  // square: the photo spans its larger side
-    Photo photo;
-    photo.width = scene.w;
-    photo.height = scene.h;
-    for (double level : scene.flat_levels()) {
-        const auto l = std::uint8_t(std::lround(level));
-        photo.levels.push_back({l, l, l});
-        photo.foreground.push_back(1);
-    }
+    const Photo photo = scene.flat_photo();
     const SplitFilms shading{scene.shading, scene.shading, {}};
     const double side = double(scene.w);
     const MaterialAppearance exact = compare_material(photo, {scene.render, scene.render, {}}, shading, 1.f, side);
@@ -283,6 +290,40 @@ TEST_CASE("material D: read over blocks where the render's noise is small beside
         CHECK(std::abs(m.d[c] - exact.d_by_block[b - 1][c]) <
               0.7 * std::abs(m.d_by_block[0][c] - exact.d_by_block[0][c]));
     }
+}
+
+TEST_CASE("quiet block: the smallest block whose noise is that share of the photo's spread", "[fitter][contrast]") {
+    // The same sawtooth and noise. quiet_block jumps ahead by the noise's
+    // excess (noise as 1/block): it must never skip a quiet block.
+    const ShadedStripes scene(240, 240, true);
+    const Photo photo = scene.flat_photo();
+    const SplitFilms shading{scene.shading, scene.shading, {}};
+    auto exponential = [](SplitMix64& rng) { return -std::log(1.0 - rng.uniform()); };
+    const SplitFilms noisy{scene.noisy_render(8, 1ull << 40, exponential),
+                           scene.noisy_render(8, 2ull << 40, exponential), {}};
+    const double side = double(scene.w);
+    auto excess = [&](int block, double share) {
+        const double photo_spread = photo_block_histogram(photo, side / block).spread(0);
+        return material_spread(noisy, shading, 1.f, block).noise[0] / (share * photo_spread);
+    };
+    for (const double share : {1.0, 0.5, 0.25}) {
+        INFO("share " << share);
+        const QuietBlock q = quiet_block(photo, noisy, shading, 1.f, side, 1, share);
+        INFO("block " << q.block);
+        REQUIRE(q.quiet);
+        CHECK(excess(q.block, share) <= 1.0);
+        for (int b = 1; b < q.block; ++b) CHECK(excess(b, share) > 1.0);
+        CHECK(q.spread.noise[0] == Approx(material_spread(noisy, shading, 1.f, q.block).noise[0]));
+        CHECK(q.photo_spread[0] == Approx(photo_spread(photo, side / q.block)[0]));
+    }
+    // Starting above the smallest quiet block keeps the start.
+    CHECK(quiet_block(photo, noisy, shading, 1.f, side, 7, 1.0).block == 7);
+    // Too small a share for any block: the largest, not quiet.
+    const QuietBlock none = quiet_block(photo, noisy, shading, 1.f, side, 1, 0.01);
+    CHECK_FALSE(none.quiet);
+    CHECK(none.block == kMaxMaterialBlock);
+    // A noiseless render is quiet over one pixel.
+    CHECK(quiet_block(photo, {scene.render, scene.render, {}}, shading, 1.f, side, 1, 0.25).block == 1);
 }
 
 TEST_CASE("photo spread at a coarser scale averages the finer texture away", "[fitter][contrast]") {
@@ -480,5 +521,55 @@ TEST_CASE("contrast fit: a render at a known k_s and contrast fitted from (0 1) 
         CHECK(std::abs(m.s_material[c] - m.s_photo[c]) < options.s_tolerance + 1.0);
         CHECK(std::abs(out.contrast[c] - g_true[c]) < 0.2 * g_true[c]);
         CHECK(std::abs(check.ks[c] - k_true[c]) < 0.15);
+    }
+}
+
+TEST_CASE("contrast fit: where the renders' noise hides S_material, the contrast stays and k_s matches A",
+          "[fitter][contrast][fit-session]") {
+    // A photo of one colour (S 0) and a volume at a small contrast (S_material
+    // a fraction of a level), rendered at 4 samples per pixel at 24² and 48²:
+    // the noise over the largest blocks is many times both spreads, so S
+    // cannot be told from it. The contrast must stay where it started, the
+    // fit says so per channel, and k_s still brings A to the photo's.
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 48);
+    Photo photo;
+    photo.width = photo.height = 32;
+    photo.levels.assign(32 * 32, Rgb8{150, 120, 100});
+    photo.foreground.assign(photo.levels.size(), 1);
+    FitOptions options;
+    options.width = 24;
+    options.spp = 16;  // 4 a pixel at 48²: kMinSpreadSpp's 16 is the floor there
+    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
+    const std::array<double, 3> g_start{0.05, 0.05, 0.05};
+    options.contrast_start = g_start;
+    RenderSettings settings;
+    FitSession session(t.volume, t.scene, t.camera, settings, photo, options);
+    const FitOutcome out = session.run();
+    std::string warnings;
+    for (const std::string& w : out.warnings) warnings += w + "\n";
+    INFO("k_s " << out.ks[0] << ", " << out.ks[1] << ", " << out.ks[2] << "; contrast " << out.contrast[0] << ", "
+                << out.contrast[1] << ", " << out.contrast[2] << " in " << out.renders << " renders over "
+                << out.material_block << " px blocks\n"
+                << warnings << out.reason[0] << out.reason[1] << out.reason[2]);
+    REQUIRE(out.warnings.size() == 3);
+    for (int c = 0; c < 3; ++c) {
+        CHECK_FALSE(out.contrast_fitted[c]);
+        CHECK(out.contrast[c] == g_start[c]);
+        CHECK_THAT(out.warnings[c], Catch::Contains("the contrast was not fitted") &&
+                                        Catch::Contains(channel_name(c)));
+    }
+    CHECK(out.material_block == kMaxMaterialBlock);
+    CHECK(out.density_scale == t.volume.optics.density_scale);
+    // A matched where the steps judged it (at 48², extrapolated from
+    // halves): each channel at the first step that stood at its fitted k_s
+    // (a later step for another channel moves it a little: the channels'
+    // paths share their tentative collisions).
+    REQUIRE(out.converged);
+    for (int c = 0; c < 3; ++c) {
+        const auto judged = std::find_if(out.records.begin(), out.records.end(), [&](const FitRecord& r) {
+            return r.ks[c] == out.ks[c] && r.contrast[c] == out.contrast[c] && r.a_final_size[c] >= 0.0;
+        });
+        REQUIRE(judged != out.records.end());
+        CHECK(std::abs(judged->a_final_size[c] - judged->a_photo[c]) < out.limits.tolerance);
     }
 }

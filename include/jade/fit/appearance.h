@@ -39,6 +39,23 @@ std::array<double, 3> photo_spread(const Photo& photo, double render_pixels_per_
 // The histogram of those block levels.
 RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_side);
 
+// The block a material measure is read over: the smallest from `first` on
+// (up to kMaxMaterialBlock) over which the render's noise (material_spread's
+// share) is at most `share` of the photo's spread at that scale in every
+// channel, else kMaxMaterialBlock; with the spread measured there and the
+// photo's. A near-white stone needs larger blocks than its render's relative
+// error says (material_block): near white a relative error is twice as many
+// levels as at mid-grey, and such a stone spreads few (Marble021: noise 26
+// levels over one pixel against the photo's 4.5).
+struct QuietBlock {
+    int block = 1;
+    bool quiet = false;                     // false: kMaxMaterialBlock, and still noisier than `share`
+    MaterialSpread spread;                  // material_spread over `block`
+    std::array<double, 3> photo_spread{};   // photo_spread at `block`'s scale
+};
+QuietBlock quiet_block(const Photo& photo, const SplitFilms& render, const SplitFilms& shading, float exposure,
+                       double render_pixels_per_side, int first, double share);
+
 // The material against the photo with the render's shading divided out
 // (fit/display.h, flat_render): a flat scan of a stone has no
 // shading, a lit object does, and A, S and D of the whole render measure

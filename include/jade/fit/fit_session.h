@@ -99,7 +99,11 @@ struct FitOutcome {
     int material_block = 0;               // final-render pixels per side of the blocks S_material is taken over
     std::array<ChannelState, 3> state{};
     std::array<std::string, 3> reason;    // why a channel stopped unconverged
+    std::vector<std::string> warnings;    // what a converged fit leaves short (a render that clips)
     bool converged = false;
+    // Per channel, --fit contrast searched the contrast (false where the
+    // renders' noise hid S_material: FitSession::choose_spread_block).
+    std::array<bool, 3> contrast_fitted{};
     float exposure = 1.f;                 // given, or found from the bounds
     bool exposure_matched = false;
     FitLimits limits;
@@ -173,7 +177,9 @@ private:
     void finish(const FitDriver& driver);
     struct ContrastSearch;
     void fit_contrast();
-    void contrast_step(ContrastSearch& search, int channel, double delta, double s, double s_photo);
+    MaterialSpread choose_spread_block(ContrastSearch& search, const StepRenders& step);
+    void finish_contrast(const ContrastSearch& search);
+    void contrast_step(ContrastSearch& search, int channel, double delta, double s);
     void raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
     void measure_density_exponent(ContrastSearch& search) const;
     void mark_clipped_channels();
