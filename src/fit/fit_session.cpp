@@ -730,7 +730,7 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
                       "%s: the contrast was not fitted: the fit's renders' noise over %d-px blocks (%.1f levels) is "
                       "more than %g times both the photo's spread there (%.1f) and the render's (%.1f), so "
                       "S_material cannot be told from it; the contrast stays at %.3g and k_s matches A alone (more "
-                      "--fit-spp measures it)",
+                      "--fit-spp lowers the noise)",
                       channel_name(c), q.block, q.spread.noise[c], kSpreadNoiseShare, q.photo_spread[c],
                       q.spread.s[c], st.g[c]);
         outcome_.warnings.push_back(why);
