@@ -692,8 +692,10 @@ void FitSession::fit_contrast() {
         }
         st.have_prev = true;
         if (all_done) break;
-        // A step in density scale needs two more steps to be judged.
-        if (st.spread_seen == std::array<bool, 3>{true, true, true} && options_.fit_density && fitting_renders() + 2 * step_cost() <= options_.max_renders)
+        // A step in density scale needs two more steps to be judged; it
+        // changes every channel's S, so not where one channel's S is hidden.
+        const bool every_spread_seen = st.spread_seen == std::array<bool, 3>{true, true, true};
+        if (every_spread_seen && options_.fit_density && fitting_renders() + 2 * step_cost() <= options_.max_renders)
             raise_density_scale(st, st.s_photo);
     }
     finish_contrast(st);
@@ -702,7 +704,7 @@ void FitSession::fit_contrast() {
 // The block S_material is read over, from the first step: the one the
 // final render's noise will allow (material_block of its expected error:
 // this render's at the final sample count), or larger, where the steps' own
-// noise is more than kSpreadNoiseShare of the photo's spread over it
+// noise is more than kSpreadNoiseShare times the photo's spread over it
 // (quiet_block). Where even kMaxMaterialBlock's blocks leave a channel's
 // noise above that multiple of both the photo's spread and its own S, S's
 // scatter from one step to the next is larger than either (Marble021, a
@@ -720,7 +722,6 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
                                      material_block(error), kSpreadNoiseShare);
     st.block = q.block;
     st.s_photo = q.photo_spread;
-    std::string hidden;
     for (int c = 0; c < 3; ++c) {
         st.spread_seen[c] = q.spread.noise[c] <= kSpreadNoiseShare * std::max(q.photo_spread[c], q.spread.s[c]);
         outcome_.contrast_fitted[c] = st.spread_seen[c];

@@ -41,7 +41,7 @@ RgbHistogram photo_block_histogram(const Photo& photo, double render_pixels_per_
 
 // The block a material measure is read over: the smallest from `first` on
 // (up to kMaxMaterialBlock) over which the render's noise (material_spread's
-// share) is at most `share` of the photo's spread at that scale in every
+// share) is at most `share` times the photo's spread at that scale in every
 // channel, else kMaxMaterialBlock; with the spread measured there and the
 // photo's. A near-white stone needs larger blocks than its render's relative
 // error says (material_block): near white a relative error is twice as many

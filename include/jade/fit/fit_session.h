@@ -99,7 +99,8 @@ struct FitOutcome {
     int material_block = 0;               // final-render pixels per side of the blocks S_material is taken over
     std::array<ChannelState, 3> state{};
     std::array<std::string, 3> reason;    // why a channel stopped unconverged
-    std::vector<std::string> warnings;    // what a converged fit leaves short (a render that clips)
+    std::vector<std::string> warnings;    // what a fit leaves short that is not a channel's failure
+                                          // (a render that clips, a contrast the noise hid)
     bool converged = false;
     // Per channel, --fit contrast searched the contrast (false where the
     // renders' noise hid S_material: FitSession::choose_spread_block).
