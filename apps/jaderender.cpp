@@ -624,6 +624,13 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
         ->capture_default_str();
     app.add_option("--fit-spp-max", o.fit.spp_max, "Most samples per pixel a fitting render doubles to")
         ->capture_default_str();
+    app.add_option("--fit-spread-spp", o.fit.spread_spp,
+                   "Samples per pixel of the final-size renders --fit contrast reads the material's spread "
+                   "S_material from, two a step (0 = as many samples per image as a fitting render, at least " +
+                       std::to_string(jade::kMinSpreadSpp) +
+                       "); more where a faint stone's spread hides in their noise (the fit then leaves the "
+                       "contrast and warns, naming a count that would do)")
+        ->capture_default_str();
     app.add_option("--fit-max-renders", o.fit.max_renders, "Most fitting renders")->capture_default_str();
     app.add_option("--final-match", o.final_match,
                    "After the fit, foresee A at the final render's size (the fitting renders are smaller, and A "

@@ -209,6 +209,7 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
     if (o.fit.method == FitMethod::Contrast)
         j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
                   {"material", fit.s_material}, {"material_block", fit.material_block},
+                  {"spp", fit.spread_spp},
                   {"contrast_fitted", fit.contrast_fitted}};
     if (!fit.records.empty()) add_final_residuals(fit, j);
     return j;

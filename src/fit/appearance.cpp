@@ -1,6 +1,7 @@
 #include "jade/fit/appearance.h"
 
 #include "jade/core/display.h"
+#include "jade/core/error.h"
 #include "jade/core/math.h"
 #include "jade/volume/structure_estimate.h"
 
@@ -147,6 +148,16 @@ Appearance compare_appearance(const RgbHistogram& photo_histogram, const Texture
                    : texture_spectrum(render.luma, pixels_per_side, render.luma_noise_variance);
     a.structure = structure_distance(a.render, a.photo);
     return a;
+}
+
+int spp_for_noise(int spp, double noise, double limit) {
+    if (!(spp > 0)) throw Error("internal: spp_for_noise needs a positive sample count");
+    if (!(limit > 0.0)) return 0;
+    const double needed = double(spp) * std::pow(noise / limit, 3.0);
+    constexpr int kMost = 1 << 20;
+    int n = spp;
+    while (n < needed && n < kMost) n *= 2;
+    return n >= needed ? n : 0;
 }
 
 }  // namespace jade

@@ -65,13 +65,12 @@ void FitOptions::validate() const {
     if (!(exposure >= 0) || !std::isfinite(exposure))
         throw Error("--exposure must be positive (or 0: matched to the photo)");
     if (width < 0 || spp < 0) throw Error("--fit-width and --fit-spp must not be negative");
+    if (spread_spp != 0 && spread_spp < kMinSpreadSpp)
+        throw Error("--fit-spread-spp must be 0 (as many samples per image as a fitting render) or at least " +
+                    std::to_string(kMinSpreadSpp));
 }
 
 namespace {
-
-// The fewest samples per pixel of a render at the final size for S_material,
-// 8 in each half.
-constexpr int kMinSpreadSpp = 16;
 
 // The most noise, as a multiple of the photo's spread over the same
 // blocks, that --fit contrast reads S_material through (quiet_block). The
@@ -378,8 +377,11 @@ const FitRecord* FitSession::final_record(int c) const {
 // fitting render (16 per pixel where that has 256 at a quarter of the
 // width), so each costs about as much. The noise this leaves (on Onyx010
 // 13–21 levels against S of 27–36) is taken out by the halves' covariance
-// (material_spread) and widens only S's own scatter.
+// (material_spread) and widens only S's own scatter. --fit-spread-spp
+// sets their count instead, where a faint stone's spread hides in that
+// noise (choose_spread_block).
 int FitSession::spread_spp() const {
+    if (options_.spread_spp > 0) return options_.spread_spp;
     if (!spread_at_final_size_) return outcome_.spp;
     const double pixel_ratio = double(camera_.width()) * camera_.height() /
                                (double(spread_camera().width()) * spread_camera().height());
@@ -723,18 +725,23 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
     st.block = q.block;
     st.s_photo = q.photo_spread;
     for (int c = 0; c < 3; ++c) {
-        st.spread_seen[c] = q.spread.noise[c] <= kSpreadNoiseShare * std::max(q.photo_spread[c], q.spread.s[c]);
+        const double limit = kSpreadNoiseShare * std::max(q.photo_spread[c], q.spread.s[c]);
+        st.spread_seen[c] = q.spread.noise[c] <= limit;
         outcome_.contrast_fitted[c] = st.spread_seen[c];
         if (st.spread_seen[c]) continue;
-        char why[400];
+        char why[400], advice[160] = "";
+        if (const int spp = spp_for_noise(spread_spp(), q.spread.noise[c], limit); spp > 0)
+            std::snprintf(advice, sizeof advice,
+                          " (--fit-spread-spp %d would bring the noise under %.1f; each contrast step renders two "
+                          "images at it)",
+                          spp, limit);
         std::snprintf(why, sizeof why,
-                      "%s: the contrast was not fitted: the fit's renders' noise over %d-px blocks (%.1f levels) is "
-                      "more than %g times both the photo's spread there (%.1f) and the render's (%.1f), so "
-                      "S_material cannot be told from it; the contrast stays at %.3g and k_s matches A alone (more "
-                      "--fit-spp lowers the noise)",
-                      channel_name(c), q.block, q.spread.noise[c], kSpreadNoiseShare, q.photo_spread[c],
-                      q.spread.s[c], st.g[c]);
-        outcome_.warnings.push_back(why);
+                      "%s: the contrast was not fitted: the fit's renders' noise over %d-px blocks (%.1f levels at "
+                      "%d spp) is more than %g times both the photo's spread there (%.1f) and the render's (%.1f), so "
+                      "S_material cannot be told from it; the contrast stays at %.3g and k_s matches A alone",
+                      channel_name(c), q.block, q.spread.noise[c], spread_spp(), kSpreadNoiseShare,
+                      q.photo_spread[c], q.spread.s[c], st.g[c]);
+        outcome_.warnings.push_back(std::string(why) + advice);
     }
     return q.spread;
 }
@@ -744,6 +751,7 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
 void FitSession::finish_contrast(const ContrastSearch& st) {
     outcome_.s_photo = st.s_photo;
     outcome_.material_block = st.block;
+    outcome_.spread_spp = spread_spp();
     outcome_.density_scale = density_scale_;
     for (int c = 0; c < 3; ++c) outcome_.brightness_slope[c] = st.jacobian[c].m[0][0];
     outcome_.converged = true;

@@ -326,6 +326,38 @@ TEST_CASE("quiet block: the smallest block whose noise is that share of the phot
     CHECK(quiet_block(photo, {scene.render, scene.render, {}}, shading, 1.f, side, 1, 0.25).block == 1);
 }
 
+TEST_CASE("samples for a noise: where the largest block is not quiet, the count named quiets it",
+          "[fitter][contrast]") {
+    // The sawtooth under exponential noise (variance per sample 1, so the
+    // noise falls as 1/√samples) over the largest block, at 4 samples a
+    // pixel, with a limit 1.7 times below its noise: spp_for_noise names 32
+    // (4 × 1.7³ = 19.7, rounded up to a power of two), and a render with
+    // that many samples has its noise under the limit, as 1/√samples says.
+    // Each render's noise is read over 900 blocks (its relative scatter
+    // about 3 %; the ratio's tolerance is 3 of its scatters).
+    const ShadedStripes scene(240, 240, true);
+    const SplitFilms shading{scene.shading, scene.shading, {}};
+    auto exponential = [](SplitMix64& rng) { return -std::log(1.0 - rng.uniform()); };
+    auto noise_at = [&](int samples) {
+        const SplitFilms noisy{scene.noisy_render(samples / 2, 3ull << 40, exponential),
+                               scene.noisy_render(samples / 2, 4ull << 40, exponential), {}};
+        return material_spread(noisy, shading, 1.f, kMaxMaterialBlock).noise[0];
+    };
+    const double noise = noise_at(4), limit = noise / 1.7;
+    const int spp = spp_for_noise(4, noise, limit);
+    CHECK(spp == 32);
+    const double quieter = noise_at(spp);
+    INFO("noise " << noise << " at 4 samples, " << quieter << " at " << spp << "; limit " << limit);
+    CHECK(quieter <= limit);
+    CHECK(quieter == Approx(noise * std::sqrt(4.0 / spp)).epsilon(0.12));
+    // Already quiet: the count it has; 1.26 times too loud: twice the count
+    // (1.26³ = 2.0). A limit of 0 (a photo that spreads nothing): no count.
+    CHECK(spp_for_noise(16, 1.0, 2.0) == 16);
+    CHECK(spp_for_noise(16, 1.25, 1.0) == 32);
+    CHECK(spp_for_noise(16, 1.0, 0.0) == 0);
+    CHECK(spp_for_noise(16, 1e4, 1.0) == 0);
+}
+
 TEST_CASE("photo spread at a coarser scale averages the finer texture away", "[fitter][contrast]") {
     Photo p;
     p.width = p.height = 64;
@@ -559,6 +591,7 @@ TEST_CASE("contrast fit: where the renders' noise hides S_material, the contrast
                                         Catch::Contains(channel_name(c)));
     }
     CHECK(out.material_block == kMaxMaterialBlock);
+    CHECK(out.spread_spp == kMinSpreadSpp);
     CHECK(out.density_scale == t.volume.optics.density_scale);
     // A matched where the steps judged it (at 48², extrapolated from
     // halves): each channel at the first step that stood at its fitted k_s

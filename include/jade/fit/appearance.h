@@ -56,6 +56,19 @@ struct QuietBlock {
 QuietBlock quiet_block(const Photo& photo, const SplitFilms& render, const SplitFilms& shading, float exposure,
                        double render_pixels_per_side, int first, double share);
 
+// Where even the largest block is not quiet: the samples per pixel at which
+// the render's noise, `noise` at `spp`, falls to `limit`, taken to fall as
+// spp^(-1/3), rounded up to a power of two times `spp`; 0 where none up to
+// 2^20 would (a limit of 0: the photo spreads nothing there). Not as
+// 1/√spp: below about 64 spp the shading render's common random numbers
+// cancel more of the flattened render's noise, and the rare bright paths
+// have not all shown up (README, "How the error falls"). On
+// Marble021's fitted volume in the bunny (two seeds each, 8-px blocks, the
+// render flattened by its shading as the fit takes it) 5.2 levels at 16
+// spp, 3.2 at 64 (spp^-0.35), 1.7 at 256. Where the noise does fall as
+// 1/√spp the count asked for is (noise / limit) times too many at most.
+int spp_for_noise(int spp, double noise, double limit);
+
 // The material against the photo with the render's shading divided out
 // (fit/display.h, flat_render): a flat scan of a stone has no
 // shading, a lit object does, and A, S and D of the whole render measure

@@ -38,6 +38,11 @@ namespace jade {
 // its 5 minutes (README, "The fit").
 constexpr int kFirstFitSpp = 128;
 
+// The fewest samples per pixel of a render S_material is read from, 8 in
+// each half (render_quarters needs a turn of every replicate in each
+// quarter).
+constexpr int kMinSpreadSpp = 16;
+
 struct FitOptions {
     FitMethod method = FitMethod::Contrast;
     std::optional<std::array<double, 3>> ks_start;  // default: the volume's own k_s
@@ -52,6 +57,9 @@ struct FitOptions {
     double noise = 0.3;         // standard error of A, gray levels, the chosen spp must reach
     double error = 0.4;         // and the estimated relative error (per pixel)
     int spp_max = 4096;         // the most the first fitting render doubles to
+    // Samples per pixel of the renders --fit contrast reads S_material from
+    // (FitSession::spread_spp); 0 = as many per image as a fitting render.
+    int spread_spp = 0;
     int max_renders = 24;
     double k_max = 4.0;         // FitLimits::k_max; k_min follows from the volume
     float exposure = 0.f;       // 0 = from the renders at both k_s bounds
@@ -97,6 +105,7 @@ struct FitOutcome {
     // (--fit contrast only; -1 otherwise).
     std::array<double, 3> s_material{-1, -1, -1}, s_photo{-1, -1, -1};
     int material_block = 0;               // final-render pixels per side of the blocks S_material is taken over
+    int spread_spp = 0;                   // samples per pixel of the renders S_material is read from
     std::array<ChannelState, 3> state{};
     std::array<std::string, 3> reason;    // why a channel stopped unconverged
     std::vector<std::string> warnings;    // what a fit leaves short that is not a channel's failure
