@@ -209,7 +209,7 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
     if (o.fit.method == FitMethod::Contrast)
         j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
                   {"material", fit.s_material}, {"material_block", fit.material_block},
-                  {"spp", fit.spread_spp},
+                  {"spp", fit.spread_spp}, {"spp_advised", fit.spread_spp_advised},
                   {"contrast_fitted", fit.contrast_fitted}};
     if (!fit.records.empty()) add_final_residuals(fit, j);
     return j;
@@ -331,6 +331,19 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
                     "(from %.4g)\n",
                     fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.material_block, fit.s_photo[0],
                     fit.s_photo[1], fit.s_photo[2], fit.density_scale, fit.density_scale_start);
+    if (contrast && !all_s) {
+        std::string hidden;
+        int count = 0;
+        for (int c = 0; c < 3; ++c)
+            if (!fit.contrast_fitted[c]) hidden += std::string(count++ ? ", " : "") + channel_name(c);
+        std::printf("  contrast not fitted in %s: %s S hides in the noise of the fit's renders at %d spp",
+                    hidden.c_str(), count > 1 ? "their" : "its", fit.spread_spp);
+        if (fit.spread_spp_advised > 0)
+            std::printf("; run again with --fit-spread-spp %d to fit it (each contrast step then takes about %d "
+                        "times as long)",
+                        fit.spread_spp_advised, std::max(1, fit.spread_spp_advised / std::max(1, fit.spread_spp)));
+        std::printf("\n");
+    }
     if (best)
         std::printf("  last fitting render: A photo (%.2f, %.2f, %.2f), render (%.2f, %.2f, %.2f), "
                     "dA (%+.2f, %+.2f, %+.2f) +- (%.2f, %.2f, %.2f)\n",

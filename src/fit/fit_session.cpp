@@ -730,7 +730,9 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
         outcome_.contrast_fitted[c] = st.spread_seen[c];
         if (st.spread_seen[c]) continue;
         char why[400], advice[160] = "";
-        if (const int spp = spp_for_noise(spread_spp(), q.spread.noise[c], limit); spp > 0)
+        const int spp = spp_for_noise(spread_spp(), q.spread.noise[c], limit);
+        outcome_.spread_spp_advised = std::max(outcome_.spread_spp_advised, spp);
+        if (spp > 0)
             std::snprintf(advice, sizeof advice,
                           " (--fit-spread-spp %d would bring the noise under %.1f; each contrast step renders two "
                           "images at it)",

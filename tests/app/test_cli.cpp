@@ -726,6 +726,21 @@ TEST_CASE("pipeline: flat, tiny, dark, white and clipped photos end with explain
     }
 }
 
+// A 50 × 50 opaque photo in `dir` whose pixel (x, y) is colour(x, y).
+template <class Colour>
+std::string pattern_photo(TempDir& dir, const std::string& name, Colour colour) {
+    const int w = 50, h = 50;
+    std::vector<std::uint8_t> px;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::array<std::uint8_t, 3> c = colour(x, y);
+            px.insert(px.end(), {c[0], c[1], c[2], 255});
+        }
+    const std::string path = dir.file(name);
+    jade::write_image_u8(path, w, h, 4, px);
+    return path;
+}
+
 TEST_CASE("pipeline: a near-white photo clips the render at the found exposure: a warning, and A stays near",
           "[cli][fit]") {
     // Levels 248–252: at the photo's mean the lit cow has nearly every pixel
@@ -734,14 +749,10 @@ TEST_CASE("pipeline: a near-white photo clips the render at the found exposure: 
     // and the brightness check once stepped by the slope from +4.8 levels
     // to −91; it keeps only steps that come nearer.
     TempDir dir;
-    const int w = 50, h = 50;
-    std::vector<std::uint8_t> px;
-    for (int i = 0; i < w * h; ++i) {
-        const auto l = std::uint8_t(248 + i % 5);
-        px.insert(px.end(), {l, l, std::uint8_t(l - 2), 255});
-    }
-    const std::string photo = dir.file("white.png");
-    jade::write_image_u8(photo, w, h, 4, px);
+    const std::string photo = pattern_photo(dir, "white.png", [](int x, int y) {
+        const auto l = std::uint8_t(248 + (y * 50 + x) % 5);
+        return std::array<std::uint8_t, 3>{l, l, std::uint8_t(l - 2)};
+    });
     const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 12 --out " +
                                   dir.file("out"));
     INFO(r.out << r.err);
@@ -755,6 +766,27 @@ TEST_CASE("pipeline: a near-white photo clips the render at the found exposure: 
     REQUIRE(std::sscanf(r.out.c_str() + at, "final render against the photo: A (%lf, %lf, %lf) / (%lf, %lf, %lf)", &a[0],
                         &a[1], &a[2], &photo_a[0], &photo_a[1], &photo_a[2]) == 6);
     for (int c = 0; c < 3; ++c) CHECK(std::abs(a[c] - photo_a[c]) < 6.0);
+}
+
+TEST_CASE("pipeline: where the fit's noise hides the material's spread, the summary names the channels",
+          "[cli][fit]") {
+    // Levels 150–154 in a fine diagonal pattern: over the fit's largest
+    // blocks the photo spreads nothing, and the renders' noise is all there
+    // is, so no channel's contrast is fitted and no sample count would help.
+    TempDir dir;
+    const std::string photo = pattern_photo(dir, "fine.png", [](int x, int y) {
+        const auto l = std::uint8_t(150 + (x * 7 + y * 3) % 5);
+        return std::array<std::uint8_t, 3>{std::uint8_t(l + 4), l, std::uint8_t(l - 4)};
+    });
+    const Result r = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --fit-max-renders 12 --out " +
+                                  dir.file("out"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("contrast not fitted in red, green, blue: their S hides in the noise of the "
+                                      "fit's renders at 16 spp\n"));
+    CHECK_THAT(r.err, Catch::Contains("red: the contrast was not fitted"));
+    const std::string report = slurp(dir.file("out/report.json"));
+    CHECK(json_field(report, "spp_advised") == " 0");
 }
 
 TEST_CASE("pipeline: a render that clips at a given exposure is reported, not converged", "[cli][fit]") {

@@ -592,6 +592,13 @@ TEST_CASE("contrast fit: where the renders' noise hides S_material, the contrast
     }
     CHECK(out.material_block == kMaxMaterialBlock);
     CHECK(out.spread_spp == kMinSpreadSpp);
+    // The count the summary names is the largest a channel's warning names
+    // (none where no count would do).
+    int named = 0;
+    for (const std::string& w : out.warnings)
+        if (const auto at = w.find("--fit-spread-spp "); at != std::string::npos)
+            named = std::max(named, std::stoi(w.substr(at + 17)));
+    CHECK(out.spread_spp_advised == named);
     CHECK(out.density_scale == t.volume.optics.density_scale);
     // A matched where the steps judged it (at 48², extrapolated from
     // halves): each channel at the first step that stood at its fitted k_s

@@ -106,6 +106,10 @@ struct FitOutcome {
     std::array<double, 3> s_material{-1, -1, -1}, s_photo{-1, -1, -1};
     int material_block = 0;               // final-render pixels per side of the blocks S_material is taken over
     int spread_spp = 0;                   // samples per pixel of the renders S_material is read from
+    // The --fit-spread-spp at which every channel whose contrast was not
+    // fitted would show its S (spp_for_noise; the largest of theirs); 0
+    // where every channel's was fitted, or no count would do.
+    int spread_spp_advised = 0;
     std::array<ChannelState, 3> state{};
     std::array<std::string, 3> reason;    // why a channel stopped unconverged
     std::vector<std::string> warnings;    // what a fit leaves short that is not a channel's failure
