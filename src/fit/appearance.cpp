@@ -150,6 +150,16 @@ Appearance compare_appearance(const RgbHistogram& photo_histogram, const Texture
     return a;
 }
 
+SpreadReading read_spread(const MaterialSpread& spread, const std::array<double, 3>& photo_spread, int c) {
+    const double larger = std::max(photo_spread[c], spread.s[c]);
+    SpreadReading r;
+    r.noise_limit = kSpreadNoiseShare * larger;
+    r.scatter_limit = kSpreadScatterShare * larger * larger;
+    r.quiet = spread.noise[c] <= r.noise_limit;
+    r.steady = spread.scatter[c] <= r.scatter_limit;
+    return r;
+}
+
 int spp_for_noise(int spp, double noise, double limit) {
     if (!(spp > 0)) throw Error("internal: spp_for_noise needs a positive sample count");
     if (!(limit > 0.0)) return 0;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace jade {
 
@@ -261,17 +262,28 @@ ObjectChannel flat_blocks(const ImageF32& render, const ImageF32& shading, int c
     return block_means(flattened(object_channel(render, c, exposure), object_channel(shading, c, exposure)), block);
 }
 
-// The mean covariance of the flattened blocks' levels over every pair of
-// independent pieces: the variance of the image those pieces share.
-double shared_variance(const std::vector<ImageF32>& render, const std::vector<ImageF32>& shading, int c,
-                       float exposure, int block) {
+// The covariances of the flattened blocks' levels between every pair of
+// independent pieces: each an estimate of the variance of the image those
+// pieces share.
+std::vector<double> pair_covariances(const std::vector<ImageF32>& render, const std::vector<ImageF32>& shading,
+                                     int c, float exposure, int block) {
     std::vector<ObjectChannel> flat;
     for (std::size_t i = 0; i < render.size(); ++i) flat.push_back(flat_blocks(render[i], shading[i], c, exposure, block));
-    double sum = 0.0;
-    int pairs = 0;
+    std::vector<double> out;
     for (std::size_t i = 0; i < flat.size(); ++i)
-        for (std::size_t j = i + 1; j < flat.size(); ++j) sum += level_covariance(flat[i], flat[j]), ++pairs;
-    return sum / pairs;
+        for (std::size_t j = i + 1; j < flat.size(); ++j) out.push_back(level_covariance(flat[i], flat[j]));
+    return out;
+}
+
+double mean_of(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
+
+// The sample standard deviation of a few values.
+double scatter_of(const std::vector<double>& v) {
+    if (v.size() < 2) return 0.0;
+    const double m = mean_of(v);
+    double sum2 = 0.0;
+    for (double x : v) sum2 += (x - m) * (x - m);
+    return std::sqrt(sum2 / double(v.size() - 1));
 }
 
 }  // namespace
@@ -290,10 +302,14 @@ MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shadi
     const ImageF32 whole = film_image(render.merged()), whole_shading = film_image(shading.merged());
     MaterialSpread m;
     for (int c = 0; c < 3; ++c) {
-        double variance = shared_variance(halves, shading_halves, c, exposure, block);
+        double variance = mean_of(pair_covariances(halves, shading_halves, c, exposure, block));
         // Richardson: the bias falls as 1/n, so V(∞) ≈ 2·V(n/2) − V(n/4).
-        if (!render.quarters.empty())
-            variance = 2.0 * variance - shared_variance(render.quarters, shading.quarters, c, exposure, block);
+        if (!render.quarters.empty()) {
+            const std::vector<double> quarters =
+                pair_covariances(render.quarters, shading.quarters, c, exposure, block);
+            variance = 2.0 * variance - mean_of(quarters);
+            m.scatter[c] = scatter_of(quarters);
+        }
         const double spread = level_spread(flat_blocks(whole, whole_shading, c, exposure, block));
         m.s[c] = std::sqrt(std::max(0.0, variance));
         m.noise[c] = std::sqrt(std::max(0.0, spread * spread - m.s[c] * m.s[c]));

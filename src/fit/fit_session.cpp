@@ -72,19 +72,6 @@ void FitOptions::validate() const {
 
 namespace {
 
-// The most noise, as a multiple of the photo's spread over the same
-// blocks, that --fit contrast reads S_material through (quiet_block). The
-// halves' covariance takes the noise's bias out, not its scatter, and the
-// light's heavy-tailed paths make that scatter several times the Gaussian
-// estimate. Measured: on the demo at one pixel's blocks (red's noise 24–28
-// levels against the photo's 13.5) the fit matched S to within 0.5 level of
-// a 256-spp measurement; on Marble021 at one pixel (noise 26 against 4.5) S
-// read 0 to 9 levels from one step to the next, at 8 (4.7 against 1.7) 0 to
-// 21, and the contrast chased it to its cap. At 1 the demo's S is matched
-// over 3-pixel blocks, where the photo spreads 2 levels less, and the fit
-// stopped at a blurrier stone (density scale 80 against 105; the render's
-// structure distance 2.04 against 1.45–1.55).
-constexpr double kSpreadNoiseShare = 2.0;
 
 // The share of a channel's object pixels at one end of the 8-bit range
 // above which the channel counts as clipped.
@@ -725,27 +712,44 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
     st.block = q.block;
     st.s_photo = q.photo_spread;
     for (int c = 0; c < 3; ++c) {
-        const double limit = kSpreadNoiseShare * std::max(q.photo_spread[c], q.spread.s[c]);
-        st.spread_seen[c] = q.spread.noise[c] <= limit;
+        const SpreadReading r = read_spread(q.spread, q.photo_spread, c);
+        st.spread_seen[c] = r.readable();
         outcome_.contrast_fitted[c] = st.spread_seen[c];
         if (st.spread_seen[c]) continue;
-        char why[400], advice[160] = "";
-        const int spp = spp_for_noise(spread_spp(), q.spread.noise[c], limit);
+        // The scatter is of a square of levels: it falls as the noise
+        // squared, and spp_for_noise takes its root.
+        const int spp = r.quiet ? spp_for_noise(spread_spp(), std::sqrt(q.spread.scatter[c]), std::sqrt(r.scatter_limit))
+                                : spp_for_noise(spread_spp(), q.spread.noise[c], r.noise_limit);
         outcome_.spread_spp_advised = std::max(outcome_.spread_spp_advised, spp);
-        if (spp > 0)
-            std::snprintf(advice, sizeof advice,
-                          " (--fit-spread-spp %d would bring the noise under %.1f; each contrast step renders two "
-                          "images at it)",
-                          spp, limit);
+        outcome_.warnings.push_back(hidden_spread_warning(c, q, st.g[c], r.quiet, spp));
+    }
+    return q.spread;
+}
+
+// The warning for a channel whose S_material the fit's renders cannot show
+// (choose_spread_block): too noisy over the largest block, or S² scattering
+// too far between renders; with the --fit-spread-spp that would show it.
+std::string FitSession::hidden_spread_warning(int c, const QuietBlock& q, double g, bool quiet, int spp) const {
+    char why[400], advice[160] = "";
+    if (quiet)
+        std::snprintf(why, sizeof why,
+                      "%s: the contrast was not fitted: over %d-px blocks S_material² scatters by %.2f levels² "
+                      "from one of the fit's renders to the next at %d spp, more than %g times the square of the "
+                      "photo's spread there (%.1f) or the render's (%.1f), so a search on it would follow the "
+                      "noise; the contrast stays at %.3g and k_s matches A alone",
+                      channel_name(c), q.block, q.spread.scatter[c], spread_spp(), kSpreadScatterShare,
+                      q.photo_spread[c], q.spread.s[c], g);
+    else
         std::snprintf(why, sizeof why,
                       "%s: the contrast was not fitted: the fit's renders' noise over %d-px blocks (%.1f levels at "
                       "%d spp) is more than %g times both the photo's spread there (%.1f) and the render's (%.1f), so "
                       "S_material cannot be told from it; the contrast stays at %.3g and k_s matches A alone",
                       channel_name(c), q.block, q.spread.noise[c], spread_spp(), kSpreadNoiseShare,
-                      q.photo_spread[c], q.spread.s[c], st.g[c]);
-        outcome_.warnings.push_back(std::string(why) + advice);
-    }
-    return q.spread;
+                      q.photo_spread[c], q.spread.s[c], g);
+    if (spp > 0)
+        std::snprintf(advice, sizeof advice,
+                      " (--fit-spread-spp %d would show it; each contrast step renders two images at it)", spp);
+    return std::string(why) + advice;
 }
 
 // The outcome of --fit contrast: the best (k_s, g) per channel (kept by

@@ -210,6 +210,86 @@ TEST_CASE("material spread: the noise's bias is extrapolated away from halves an
     CHECK(extrapolated_mean == Approx(truth).margin(0.25));
 }
 
+TEST_CASE("material spread: how far S² scatters between renders, read from one render's quarters",
+          "[fitter][contrast]") {
+    // The same stripes and noise, 16 independent renders in quarters. Each
+    // render's MaterialSpread::scatter (the standard deviation of its six
+    // quarter pairs' covariances) is an estimate, from that render alone, of
+    // how far its S² lies from the next render's; the standard deviation of
+    // S² over the 16 renders measures it. With 16 renders that deviation is
+    // itself known to about 18 %, and one render's six pairs to about 30 %
+    // (their mean over 16 to 8 %): a factor of 1.6 either way is three
+    // standard errors of the ratio.
+    const ShadedStripes scene(200, 150);
+    constexpr int kPerQuarter = 2;
+    auto noisy_quarter = [&](std::uint64_t seed) {
+        return scene.noisy_render(kPerQuarter, seed, [](SplitMix64& rng) { return -std::log(1.0 - rng.uniform()); });
+    };
+    const ImageF32 flat{scene.w, scene.h, 4, scene.shading.rgba(true)};
+    SplitFilms shading{scene.shading, scene.shading, {flat, flat, flat, flat}};
+    constexpr int kRenders = 16;
+    std::vector<double> s2;
+    double scatter_mean = 0.0;
+    for (std::uint64_t r = 1; r <= kRenders; ++r) {
+        std::vector<Film> q;
+        // Seeds far apart: a SplitMix64 stream is its seed counted up.
+        for (std::uint64_t i = 0; i < 4; ++i) q.push_back(noisy_quarter((r << 44) + (i << 40) + 7));
+        SplitFilms render{q[0], q[2], {}};
+        render.first.merge(q[1]);
+        render.second.merge(q[3]);
+        for (const Film& f : q) render.quarters.push_back(ImageF32{f.width(), f.height(), 4, f.rgba(true)});
+        const MaterialSpread m = material_spread(render, shading, 1.f, 1);
+        s2.push_back(m.s[0] * m.s[0]);
+        scatter_mean += m.scatter[0] / kRenders;
+    }
+    double mean = 0.0, var = 0.0;
+    for (double v : s2) mean += v / kRenders;
+    for (double v : s2) var += (v - mean) * (v - mean) / (kRenders - 1);
+    const double measured = std::sqrt(var);
+    INFO("S² over the renders: " << mean << " ± " << measured << "; read from the quarters: " << scatter_mean);
+    CHECK(scatter_mean > measured / 1.6);
+    CHECK(scatter_mean < measured * 1.6);
+    // Without quarters there is nothing to read it from.
+    SplitFilms halves_only{noisy_quarter(1), noisy_quarter(2), {}};
+    CHECK(material_spread(halves_only, {scene.shading, scene.shading, {}}, 1.f, 1).scatter[0] == 0.0);
+}
+
+TEST_CASE("read spread: the fit's first steps that showed S, and those whose search followed the noise",
+          "[fitter][contrast]") {
+    // Red's first step in four measured fits (noise, S, S²'s scatter; the
+    // photo's spread over the fit's blocks). The demo's and Marble01's
+    // searches held S; on Marble021 the bunny's noise hides S (its scatter
+    // was not measured: 0 here, the noise alone decides), and on the vase
+    // the noise passes (4.29 against 4.30) but S² scatters by 0.38 of the
+    // photo's S², and green's S read 0 to 6.4 levels from step to step.
+    struct Case {
+        const char* name;
+        double noise, s, scatter, photo;
+        bool quiet, steady;
+    };
+    const Case cases[] = {{"demo, vase, 2 px", 15.25, 0.0, 5.12, 12.65, true, true},
+                          {"Marble01, vase, 3 px", 11.31, 3.79, 1.77, 6.30, true, true},
+                          {"Marble021, bunny, 8 px", 4.7, 0.0, 0.0, 1.7, false, true},
+                          {"Marble021, vase, 6 px", 4.29, 0.0, 1.76, 2.15, true, false}};
+    for (const Case& k : cases) {
+        INFO(k.name);
+        MaterialSpread m;
+        m.noise[0] = k.noise;
+        m.s[0] = k.s;
+        m.scatter[0] = k.scatter;
+        const SpreadReading r = read_spread(m, {k.photo, 0.0, 0.0}, 0);
+        CHECK(r.quiet == k.quiet);
+        CHECK(r.steady == k.steady);
+        CHECK(r.readable() == (k.quiet && k.steady));
+    }
+    // The render's own S counts where it is the larger.
+    MaterialSpread m;
+    m.noise[0] = 3.0;
+    m.s[0] = 2.0;
+    m.scatter[0] = 0.5;
+    CHECK(read_spread(m, {1.0, 0.0, 0.0}, 0).readable());
+}
+
 TEST_CASE("material D: the shading divides out of the histogram distance", "[fitter][contrast]") {
     const ShadedStripes scene;
     const int w = scene.w, h = scene.h;

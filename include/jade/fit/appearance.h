@@ -56,6 +56,43 @@ struct QuietBlock {
 QuietBlock quiet_block(const Photo& photo, const SplitFilms& render, const SplitFilms& shading, float exposure,
                        double render_pixels_per_side, int first, double share);
 
+// The most noise, as a multiple of the photo's spread over the same
+// blocks, that --fit contrast reads S_material through (quiet_block, read_spread). The
+// halves' covariance takes the noise's bias out, not its scatter, and the
+// light's heavy-tailed paths make that scatter several times the Gaussian
+// estimate. Measured: on the demo at one pixel's blocks (red's noise 24–28
+// levels against the photo's 13.5) the fit matched S to within 0.5 level of
+// a 256-spp measurement; on Marble021 at one pixel (noise 26 against 4.5) S
+// read 0 to 9 levels from one step to the next, at 8 (4.7 against 1.7) 0 to
+// 21, and the contrast chased it to its cap. At 1 the demo's S is matched
+// over 3-pixel blocks, where the photo spreads 2 levels less, and the fit
+// stopped at a blurrier stone (density scale 80 against 105; the render's
+// structure distance 2.04 against 1.45–1.55).
+constexpr double kSpreadNoiseShare = 2.0;
+
+// The most S² may scatter from one render to the next (MaterialSpread::
+// scatter), as a share of the square of the larger of the photo's spread
+// and the render's, for --fit contrast to search a channel's contrast. The
+// noise's multiple alone (above) misses how few blocks there may be: on the
+// vase under Marble021 (6-px blocks) the noise was 1.92–2.00 times the
+// photo's spread and S² scattered by 0.28–0.38 of the photo's S²; S then
+// read 2.7, 0, 6.4, 0 and 1.3 levels from step to step in green, whose
+// contrast ran to 7.4. Marble01 on the same vase (3-px blocks, four times as
+// many) was at 1.5–2.0 times with a scatter of 0.045, the demo at 0.03 or
+// less, and their S held.
+constexpr double kSpreadScatterShare = 0.15;
+
+// Whether the fit's renders show channel c's S_material over their block
+// (FitSession::choose_spread_block): its noise at most kSpreadNoiseShare
+// times, and S²'s scatter at most kSpreadScatterShare times the square of,
+// the larger of the photo's spread there and the render's.
+struct SpreadReading {
+    double noise_limit = 0.0, scatter_limit = 0.0;
+    bool quiet = false, steady = false;  // noise, scatter within their limits
+    bool readable() const { return quiet && steady; }
+};
+SpreadReading read_spread(const MaterialSpread& spread, const std::array<double, 3>& photo_spread, int c);
+
 // Where even the largest block is not quiet: the samples per pixel at which
 // the render's noise, `noise` at `spp`, falls to `limit`, taken to fall as
 // spp^(-1/3), rounded up to a power of two times `spp`; 0 where none up to
