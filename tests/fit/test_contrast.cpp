@@ -256,12 +256,13 @@ TEST_CASE("material spread: how far S² scatters between renders, read from one 
 
 TEST_CASE("read spread: the fit's first steps that showed S, and those whose search followed the noise",
           "[fitter][contrast]") {
-    // Red's first step in four measured fits (noise, S, S²'s scatter; the
+    // Red's first step in five measured fits (noise, S, S²'s scatter; the
     // photo's spread over the fit's blocks). The demo's and Marble01's
-    // searches held S; on Marble021 the bunny's noise hides S (its scatter
-    // was not measured: 0 here, the noise alone decides), and on the vase
-    // the noise passes (4.29 against 4.30) but S² scatters by 0.38 of the
-    // photo's S², and green's S read 0 to 6.4 levels from step to step.
+    // searches held S, as did the bunny's under Marble021 at 64 spp (S² at
+    // 0.15 of the photo's S²); at 16 spp the bunny's noise hides S (its
+    // scatter was not measured: 0 here, the noise alone decides), and on the
+    // vase the noise passes (4.29 against 4.30) but S² scatters by 0.38 of
+    // the photo's S², and green's S read 0 to 6.4 levels from step to step.
     struct Case {
         const char* name;
         double noise, s, scatter, photo;
@@ -270,7 +271,8 @@ TEST_CASE("read spread: the fit's first steps that showed S, and those whose sea
     const Case cases[] = {{"demo, vase, 2 px", 15.25, 0.0, 5.12, 12.65, true, true},
                           {"Marble01, vase, 3 px", 11.31, 3.79, 1.77, 6.30, true, true},
                           {"Marble021, bunny, 8 px", 4.7, 0.0, 0.0, 1.7, false, true},
-                          {"Marble021, vase, 6 px", 4.29, 0.0, 1.76, 2.15, true, false}};
+                          {"Marble021, vase, 6 px", 4.29, 0.0, 1.76, 2.15, true, false},
+                          {"Marble021, bunny, 64 spp, 7 px", 3.48, 1.86, 0.54, 1.84, true, true}};
     for (const Case& k : cases) {
         INFO(k.name);
         MaterialSpread m;
