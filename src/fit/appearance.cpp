@@ -154,7 +154,7 @@ SpreadReading read_spread(const MaterialSpread& spread, const std::array<double,
     const double larger = std::max(photo_spread[c], spread.s[c]);
     SpreadReading r;
     r.noise_limit = kSpreadNoiseShare * larger;
-    r.scatter_limit = kSpreadScatterShare * larger * larger;
+    r.scatter_limit = std::max(kSpreadScatterShare * larger * larger, kSpreadScatterFloor);
     r.quiet = spread.noise[c] <= r.noise_limit;
     r.steady = spread.scatter[c] <= r.scatter_limit;
     return r;

@@ -284,6 +284,13 @@ TEST_CASE("read spread: the fit's first steps that showed S, and those whose sea
         CHECK(r.steady == k.steady);
         CHECK(r.readable() == (k.quiet && k.steady));
     }
+    // A flat photo on a flat volume: nothing spreads, and S²'s scatter is
+    // rounding; it is read (S 0 against 0), not refused.
+    MaterialSpread flat;
+    flat.scatter[0] = 1e-9;
+    CHECK(read_spread(flat, {0.0, 0.0, 0.0}, 0).readable());
+    flat.scatter[0] = 0.05;
+    CHECK_FALSE(read_spread(flat, {0.0, 0.0, 0.0}, 0).readable());
     // The render's own S counts where it is the larger.
     MaterialSpread m;
     m.noise[0] = 3.0;

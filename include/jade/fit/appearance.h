@@ -83,11 +83,16 @@ constexpr double kSpreadNoiseShare = 2.0;
 // red: S read 1.9, 1.3 and 2.0). With six pairs the scatter is itself known
 // to about 30 %, so the bound sits between 0.15 and 0.28.
 constexpr double kSpreadScatterShare = 0.2;
+// Below this scatter (levels²) S² is steady whatever the spreads: S near 0
+// then wobbles by 0.1 level, far under the fit's S tolerance (1.5). A flat
+// photo on a flat volume spreads nothing, and its S²'s scatter is rounding.
+constexpr double kSpreadScatterFloor = 0.01;
 
 // Whether the fit's renders show channel c's S_material over their block
 // (FitSession::choose_spread_block): its noise at most kSpreadNoiseShare
-// times, and S²'s scatter at most kSpreadScatterShare times the square of,
-// the larger of the photo's spread there and the render's.
+// times, and S²'s scatter at most kSpreadScatterShare times the square of
+// (or kSpreadScatterFloor), the larger of the photo's spread there and the
+// render's.
 struct SpreadReading {
     double noise_limit = 0.0, scatter_limit = 0.0;
     bool quiet = false, steady = false;  // noise, scatter within their limits
