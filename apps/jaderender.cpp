@@ -96,6 +96,10 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
                    "veins that branch and join as marble's do (with --structure photo the estimate searches "
                    "veins only; it does not choose them by itself)")
         ->capture_default_str();
+    cmd.add_option("--layers", o.noise.layers,
+                   "With --bands: a 1-D fBm across the layers (its octaves' amplitude ratio --k) instead of the "
+                   "sine, so the layers have many thicknesses, folded by the paper's smooth fBm")
+        ->capture_default_str();
     cmd.add_option("--seed", o.noise.seed, "Noise seed")->capture_default_str();
     cmd.add_option("--match", o.match, "Colour matching: 'joint' (real photo colours) or "
                                        "'per-channel' (the paper's)")
@@ -160,11 +164,11 @@ int run_volume(VolumeOptions& o) {
     }
 
     std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s: frequency %.2f, "
-                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f%s; photo %.2f s, "
+                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f%s%s; photo %.2f s, "
                 "structure+noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
                 volume.resolution, double(volume.levels.size()) / 1e6, jade::to_string(match),
                 photo.foreground_count(), jade::to_string(structure), noise.frequency, noise.k, noise.stretch,
-                noise.angle, noise.bands, noise.warp, noise.veins ? ", veins" : "", photo_s, volume_s, write_s,
+                noise.angle, noise.bands, noise.warp, noise.layers ? ", layers" : "", noise.veins ? ", veins" : "", photo_s, volume_s, write_s,
                 o.out.c_str(),
                 jade::format_megabytes(double(jade::file_size(o.out))).c_str(), total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());

@@ -259,6 +259,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:bands", openvdb::DoubleMetadata(v.noise.bands));
     meta.insertMeta("jade:warp", openvdb::DoubleMetadata(v.noise.warp));
     meta.insertMeta("jade:veins", openvdb::Int32Metadata(v.noise.veins ? 1 : 0));
+    meta.insertMeta("jade:layers", openvdb::Int32Metadata(v.noise.layers ? 1 : 0));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
     meta.insertMeta("jade:extinction", openvdb::StringMetadata(to_string(v.optics.extinction)));
     meta.insertMeta("jade:ds", openvdb::DoubleMetadata(v.optics.ds));
@@ -422,6 +423,13 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
         const std::int64_t veins = required_int(meta, path, "jade:veins");
         if (veins != 0 && veins != 1) fail_file(path, "metadata 'jade:veins' must be 0 or 1");
         v.noise.veins = veins == 1;
+    }
+    // Files from before the layers have none.
+    if (meta.getMetadata<openvdb::Int32Metadata>("jade:layers") ||
+        meta.getMetadata<openvdb::Int64Metadata>("jade:layers")) {
+        const std::int64_t layers = required_int(meta, path, "jade:layers");
+        if (layers != 0 && layers != 1) fail_file(path, "metadata 'jade:layers' must be 0 or 1");
+        v.noise.layers = layers == 1;
     }
     v.match = parse_match_mode(required_meta<std::string>(meta, path, "jade:match"));
     // Files from before the grey extinction have §5.1's.

@@ -38,6 +38,8 @@ void NoiseParams::validate() const {
         throw Error("--bands must be between 0 (none) and 256 per side, got " + std::to_string(bands));
     if (!(warp >= 0.0 && warp <= 256.0))
         throw Error("--warp must be between 0 and 256 cube sides, got " + std::to_string(warp));
+    if (layers && !(bands > 0.0))
+        throw Error("--layers needs --bands above 0 (the layers per cube side of the profile's first octave)");
 }
 
 namespace {
@@ -57,6 +59,12 @@ static_assert(kRadius2 == 0.5, "kNoiseScale is derived for R^2 = 1/2");
 constexpr int kGrad[12][3] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0},
                               {1, 0, 1},  {-1, 0, 1},  {1, 0, -1}, {-1, 0, -1},
                               {0, 1, 1},  {0, -1, 1},  {0, 1, -1}, {0, -1, -1}};
+
+// The layers' warp is the paper's fBm (§4.1, k = 1/2): smooth folds.
+constexpr double kLayerWarpRatio = 0.5;
+constexpr int kLayerWarpOctaves = 3;
+// Added to the profile offsets' index before hashing, apart from the warp's.
+constexpr std::uint64_t kProfileSalt = 0x9e3779b9ull;
 
 inline int fast_floor(double x) {
     const int i = int(x);
@@ -124,22 +132,54 @@ Fbm::Fbm(const NoiseParams& params)
     along_y_ = std::sin(radians(params.angle));
     inv_stretch_ = 1.0 / params.stretch;
     bands_per_voxel_ = params.bands / params.resolution;
-    warp_ = params.warp * params.resolution / amplitude_sum();
     veins_ = params.veins;
+    layers_ = params.layers;
+    if (layers_) {
+        // The warp is the paper's fBm, smooth: k shapes the profile instead,
+        // and the warp's finer octaves would crinkle every layer at the
+        // scale of a few voxels, which banded stone's layers are not.
+        k_ = kLayerWarpRatio;
+        octaves_ = std::min(octaves_, kLayerWarpOctaves);
+        // Profile octaves up to half a cycle per voxel: finer layers alias.
+        while (profile_octaves_ < 30 && std::ldexp(bands_per_voxel_, profile_octaves_) <= 0.5) ++profile_octaves_;
+        profile_octaves_ = std::max(1, profile_octaves_);
+        profile_k_ = params.k;
+    }
+    warp_ = params.warp * params.resolution / amplitude_sum(k_, octaves_);
     offset_.resize(3 * std::size_t(octaves_));
     for (std::size_t i = 0; i < offset_.size(); ++i)
         offset_[i] = 256.0 * to_unit_double(splitmix64((std::uint64_t(params.seed) << 32) ^ i));
+    // Salted apart from the warp's, so that the two fBms are independent.
+    profile_offset_.resize(3 * std::size_t(profile_octaves_));
+    for (std::size_t i = 0; i < profile_offset_.size(); ++i)
+        profile_offset_[i] =
+            256.0 * to_unit_double(splitmix64((std::uint64_t(params.seed) << 32) ^ (i + kProfileSalt)));
 }
 
 double Fbm::frequency(int i) const { return std::ldexp(base_frequency_, i); }
 
 double Fbm::amplitude(int i) const { return std::pow(k_, i + 1); }
 
-double Fbm::bound() const { return bands_per_voxel_ > 0.0 ? 1.0 : amplitude_sum(); }
+double Fbm::bound() const {
+    if (layers_) return amplitude_sum(profile_k_, profile_octaves_);
+    return bands_per_voxel_ > 0.0 ? 1.0 : amplitude_sum(k_, octaves_);
+}
 
-double Fbm::amplitude_sum() const {
-    double sum = 0.0;
-    for (int i = 0; i < octaves_; ++i) sum += amplitude(i);
+double Fbm::amplitude_sum(double ratio, int octaves) const {
+    double sum = 0.0, amp = ratio;
+    for (int i = 0; i < octaves; ++i, amp *= ratio) sum += amp;
+    return sum;
+}
+
+double Fbm::layer_profile(double t) const {
+    double sum = 0.0, fr = 1.0, amp = profile_k_;
+    for (int i = 0; i < profile_octaves_; ++i) {
+        const double* o = &profile_offset_[3 * std::size_t(i)];
+        // Simplex noise along a line through the lattice: a 1-D noise.
+        sum += amp * simplex_(t * fr + o[0], o[1], o[2]);
+        fr *= 2.0;
+        amp *= profile_k_;
+    }
     return sum;
 }
 
@@ -155,8 +195,11 @@ double Fbm::operator()(double px, double py, double pz) const {
         fr *= 2.0;
         amp *= k_;
     }
-    const double value =
-        bands_per_voxel_ > 0.0 ? std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum)) : sum;
+    double value = sum;
+    if (layers_)
+        value = layer_profile(bands_per_voxel_ * (y + warp_ * sum));
+    else if (bands_per_voxel_ > 0.0)
+        value = std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum));
     return veins_ ? std::abs(value) : value;
 }
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace jade {
 
@@ -120,16 +121,18 @@ StructureFit descend(const NoiseParams& start, const PhotoTexture& texture) {
     static const std::vector<double> warps{0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1, 1.4, 2, 2.8, 4};
     StructureFit best = evaluate(start, texture);
     auto sweep = [&](const std::vector<double>& grid, double NoiseParams::*field) {
-        std::vector<StructureFit> fits(grid.size());
+        std::vector<std::optional<StructureFit>> fits(grid.size());
         tbb::parallel_for(std::size_t(0), grid.size(), [&](std::size_t i) {
             NoiseParams p = best.noise;
             p.*field = grid[i];
+            // Layers need bands: the family stays what it started as.
+            if (p.layers && !(p.bands > 0.0)) return;
             fits[i] = evaluate(p, texture);
         });
         bool changed = false;
-        for (const StructureFit& f : fits)
-            if (objective(f, texture.spectrum) < objective(best, texture.spectrum) - 1e-9) {
-                best = f;
+        for (const std::optional<StructureFit>& f : fits)
+            if (f && objective(*f, texture.spectrum) < objective(best, texture.spectrum) - 1e-9) {
+                best = *f;
                 changed = true;
             }
         return changed;
@@ -158,6 +161,7 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     out.photo = texture.spectrum;
     NoiseParams paper = base;
     paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0, paper.veins = false;
+    paper.layers = false;
     out.paper = evaluate(paper, texture);
 
     // Two starts, the paper's fBm and a marble, because the two families'
@@ -168,8 +172,10 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     fbm.veins = base.veins;
     NoiseParams marble = fbm;
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
+    NoiseParams layered = fbm;
+    layered.layers = true, layered.bands = 2.0, layered.warp = 1.0, layered.k = 0.85;
     StructureFit best_fit = base.veins ? evaluate(fbm, texture) : out.paper;
-    for (NoiseParams start : {fbm, marble}) {
+    for (NoiseParams start : {fbm, marble, layered}) {
         start.angle = texture.spectrum.orientation;
         const StructureFit fit = descend(start, texture);
         if (objective(fit, texture.spectrum) < objective(best_fit, texture.spectrum)) best_fit = fit;

@@ -66,6 +66,7 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.bands == b.noise.bands);
     CHECK(a.noise.warp == b.noise.warp);
     CHECK(a.noise.veins == b.noise.veins);
+    CHECK(a.noise.layers == b.noise.layers);
     CHECK(a.structure == b.structure);
     CHECK(a.match == b.match);
     CHECK(a.optics.extinction == b.optics.extinction);
@@ -231,7 +232,11 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     TempDir dir;
     NoiseParams marble;
     marble.frequency = 2.83, marble.k = 0.4, marble.stretch = 2.0, marble.angle = 30.0;
-    marble.bands = 12.0, marble.warp = 0.7, marble.veins = true;
+    marble.bands = 12.0, marble.warp = 0.7;
+    // Veins and layers both: each flag changes the levels, so a flag lost
+    // on the way would fail the rebuild below.
+    marble.veins = GENERATE(false, true);
+    marble.layers = GENERATE(false, true);
     MaterialVolume v = sample_volume(16, OpticalParams{}, marble);
     v.structure = StructureMode::Photo;
     write_material_vdb(dir.file("v.vdb"), v);

@@ -2,6 +2,7 @@
 // the octave schedule checked through its spectrum and variance.
 
 #include "jade/volume/noise.h"
+#include "jade/core/math.h"
 #include "jade/core/random.h"
 
 #include <catch2/catch.hpp>
@@ -220,4 +221,78 @@ TEST_CASE("veins: the noise's absolute value, whose darkest values lie in thin l
     CAPTURE(blobs, lines);
     CHECK(lines > 0.75);  // 0.88 measured
     CHECK(blobs < 0.4);   // 0.26 measured
+}
+
+namespace {
+
+// The lengths between successive crossings of the median along a line of n
+// values: how thick the layers it crosses are.
+std::vector<double> crossing_gaps(const std::vector<double>& line) {
+    std::vector<double> sorted = line;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    std::vector<double> gaps;
+    int last = -1;
+    for (std::size_t i = 1; i < line.size(); ++i)
+        if ((line[i - 1] < median) != (line[i] < median)) {
+            if (last >= 0) gaps.push_back(double(int(i) - last));
+            last = int(i);
+        }
+    return gaps;
+}
+
+double coefficient_of_variation(const std::vector<double>& v) {
+    double mean = 0.0, sq = 0.0;
+    for (double x : v) mean += x;
+    mean /= double(v.size());
+    for (double x : v) sq += (x - mean) * (x - mean);
+    return std::sqrt(sq / double(v.size())) / mean;
+}
+
+}  // namespace
+
+TEST_CASE("layers: a profile across the layers, constant along them, of many thicknesses where the sine's are "
+          "alike", "[noise]") {
+    NoiseParams sine = params(256, 0, 0.85, 3);
+    sine.bands = 8.0, sine.warp = 0.0, sine.angle = 30.0;
+    NoiseParams layered = sine;
+    layered.layers = true;
+    const Fbm s(sine), l(layered);
+    const double c = std::cos(30.0 * kPiD / 180.0), d = std::sin(30.0 * kPiD / 180.0);
+    // Unwarped, the value depends only on the position across the layers:
+    // the same at every point of a line along them, in any slice.
+    SplitMix64 rng(5);
+    for (int i = 0; i < 200; ++i) {
+        const double x = 256 * rng.uniform(), y = 256 * rng.uniform(), z = 256 * rng.uniform();
+        const double t = 300.0 * (rng.uniform() - 0.5);
+        REQUIRE(l(x + t * c, y + t * d, z) == Approx(l(x, y, 0.0)).margin(1e-9));
+    }
+    // Across them: the sine's layers are all as thick (8 per side, its
+    // crossings 16 voxels apart); the profile's octaves, from 8 layers per
+    // side to the grid's Nyquist frequency at amplitude ratio 0.85, make thin
+    // and thick ones (the thicknesses' spread 1.38 times their mean measured).
+    std::vector<double> across_sine, across_layers;
+    for (int i = 0; i < 4096; ++i) {
+        const double t = i / 16.0;  // 256 voxels, 16 points a voxel
+        across_sine.push_back(s(128.0 - t * d, t * c, 50.0));
+        across_layers.push_back(l(128.0 - t * d, t * c, 50.0));
+    }
+    const std::vector<double> gs = crossing_gaps(across_sine), gl = crossing_gaps(across_layers);
+    CAPTURE(gs.size(), gl.size(), coefficient_of_variation(gs), coefficient_of_variation(gl));
+    CHECK(coefficient_of_variation(gs) < 0.02);
+    CHECK(coefficient_of_variation(gl) > 0.5);
+    CHECK(gl.size() > 2 * gs.size());
+    // The bound holds: the profile's amplitudes sum to it.
+    layered.warp = 1.4;
+    const Fbm warped(layered);
+    for (int i = 0; i < 20000; ++i)
+        REQUIRE(std::abs(warped(256 * rng.uniform(), 256 * rng.uniform(), 256 * rng.uniform())) <= warped.bound());
+}
+
+TEST_CASE("layers need bands", "[noise]") {
+    NoiseParams p = params(64, 0, 0.5, 1);
+    p.layers = true;
+    REQUIRE_THROWS_WITH(p.validate(), Catch::Contains("--layers needs --bands"));
+    p.bands = 4.0;
+    REQUIRE_NOTHROW(p.validate());
 }

@@ -76,6 +76,28 @@ TEST_CASE("structure estimate: marble bands are told from grain", "[structure]")
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
 }
 
+TEST_CASE("structure estimate: folded layers of many thicknesses are told from the sine's bands and from grain",
+          "[structure]") {
+    NoiseParams truth;
+    truth.resolution = 128;
+    truth.seed = 9;
+    truth.layers = true;
+    truth.bands = 8.0;
+    truth.warp = 0.5;
+    truth.frequency = 1.41;
+    truth.k = 0.85;
+    truth.angle = 60.0;
+    NoiseParams base;
+    base.resolution = 128;
+    const StructureEstimate e = estimate_structure(photo_of(truth), base);
+    const NoiseParams& got = e.chosen.noise;
+    CAPTURE(got.frequency, got.k, got.stretch, got.angle, got.bands, got.warp, got.layers, e.chosen.distance,
+            e.paper.distance);
+    REQUIRE(got.layers);
+    REQUIRE(orientation_difference(got.angle, truth.angle) < 10.0);
+    REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
+}
+
 TEST_CASE("structure estimate: asked for veins, it recovers their frequency and keeps the paper's fBm to compare",
           "[structure]") {
     NoiseParams truth;

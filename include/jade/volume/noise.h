@@ -15,6 +15,12 @@
 // sin 2π b(w/s + a·Noise/bound): b layers per side across the angle,
 // displaced by the fBm by up to a cube sides, so that slices show thin,
 // sharp, continuous veins that wander as the fBm does.
+// With `layers` (and b > 0) the sine is replaced by a one-dimensional fBm of
+// the same warped coordinate, b·(w/s + a·Noise/bound), whose octaves take
+// the amplitude ratio k: layers of many thicknesses in packets, as
+// sedimentary onyx is banded, where the sine's are all alike. The warp is
+// then the paper's fBm (amplitude ratio 1/2, base frequency f_0), smooth (three octaves),
+// so the packets fold as a whole instead of breaking into a labyrinth.
 // With `veins` the value is the absolute value of either (docs/design.md,
 // "Structure"): its zero set, a surface in the solid and a network of curves
 // in a slice, becomes the lowest values, so colour matching puts the photo's
@@ -42,6 +48,7 @@ struct NoiseParams {
     double bands = 0.0;      // b, layers per cube side across `angle`; 0 = plain fBm
     double warp = 0.1;       // a, how far (cube sides) the fBm displaces the layers
     bool veins = false;      // the absolute value: the zero set as the darkest veins
+    bool layers = false;     // with bands > 0: a 1-D fBm profile across the layers instead of the sine
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;
@@ -72,11 +79,14 @@ public:
     double frequency(int i) const;
     double amplitude(int i) const;
     int octaves() const { return octaves_; }
-    // |Noise| never exceeds it: the sum of the amplitudes (1 with bands).
+    // |Noise| never exceeds it: the sum of the amplitudes (1 with bands,
+    // the profile's amplitudes with layers).
     double bound() const;
 
 private:
-    double amplitude_sum() const;
+    double amplitude_sum(double ratio, int octaves) const;
+    // The 1-D fBm across the layers at t layers (docs/design.md, "Structure").
+    double layer_profile(double t) const;
     SimplexNoise simplex_;
     int octaves_;
     double k_;
@@ -85,10 +95,14 @@ private:
     double inv_stretch_;
     double bands_per_voxel_, warp_;
     bool veins_;
+    bool layers_;
+    int profile_octaves_ = 0;       // the layers' octaves, up to the voxel grid's Nyquist frequency
+    double profile_k_ = 0.5;
     // Each octave is shifted by its own seed-derived offset. Fr_i = 2^i / s puts
     // every octave's lattice points on the same voxel positions (the cube's
     // corner is a zero of every octave); the shifts decorrelate them.
     std::vector<double> offset_;
+    std::vector<double> profile_offset_;  // the same for the layers' octaves
 };
 
 // Noise values of slice z = k (row-major, x fastest), s*s values.
