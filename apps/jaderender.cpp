@@ -74,7 +74,9 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
                    "Noise structure: 'photo' (frequency, k, stretch and angle estimated from the photo's "
                    "spectrum) or 'fbm' (the paper's, or as given by --frequency, --k, --stretch, --angle)")
         ->capture_default_str();
-    cmd.add_option("--k", o.noise.k, "fBm amplitude ratio k, 0 < k < 1 (--structure fbm)")->capture_default_str();
+    cmd.add_option("--k", o.noise.k,
+                   "fBm amplitude ratio k, 0 < k < 1; with --layers, the layers' profile's (--structure fbm)")
+        ->capture_default_str();
     cmd.add_option("--frequency", o.noise.frequency,
                    "fBm base frequency, cycles per cube side (--structure fbm)")
         ->capture_default_str();

@@ -164,8 +164,9 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     paper.layers = false;
     out.paper = evaluate(paper, texture);
 
-    // Two starts, the paper's fBm and a marble, because the two families'
-    // optima are far apart and coordinate descent would not cross between them.
+    // Three starts, the paper's fBm, a marble and folded layers, because the
+    // families' optima are far apart and coordinate descent would not cross
+    // between them (the layers stay layers: they need bands).
     // Asked for veins (base.veins), both start and stay so: the measures
     // below do not choose veins by themselves (docs/design.md, "Structure").
     NoiseParams fbm = paper;

@@ -16,11 +16,12 @@
 // displaced by the fBm by up to a cube sides, so that slices show thin,
 // sharp, continuous veins that wander as the fBm does.
 // With `layers` (and b > 0) the sine is replaced by a one-dimensional fBm of
-// the same warped coordinate, b·(w/s + a·Noise/bound), whose octaves take
-// the amplitude ratio k: layers of many thicknesses in packets, as
-// sedimentary onyx is banded, where the sine's are all alike. The warp is
-// then the paper's fBm (amplitude ratio 1/2, base frequency f_0), smooth (three octaves),
-// so the packets fold as a whole instead of breaking into a labyrinth.
+// the same warped coordinate, b·(w/s + a·Noise/bound), whose first octave
+// varies over about 1/b of a side and whose octaves take the amplitude ratio
+// k: layers of many thicknesses in packets, as sedimentary onyx is banded,
+// where the sine's are all alike. The warp is then the paper's fBm
+// (amplitude ratio 1/2, base frequency f_0) of three octaves, smooth, so the
+// packets fold as a whole instead of breaking into a labyrinth.
 // With `veins` the value is the absolute value of either (docs/design.md,
 // "Structure"): its zero set, a surface in the solid and a network of curves
 // in a slice, becomes the lowest values, so colour matching puts the photo's
@@ -75,7 +76,8 @@ public:
     explicit Fbm(const NoiseParams& params);
     // Sum over octaves at voxel-space position p (voxel centres are i + 1/2).
     double operator()(double x, double y, double z) const;
-    // Frequency (cycles per voxel) and amplitude of octave i.
+    // Frequency (cycles per voxel) and amplitude of octave i; with layers,
+    // of the warp's fBm (the profile's octaves are its own).
     double frequency(int i) const;
     double amplitude(int i) const;
     int octaves() const { return octaves_; }

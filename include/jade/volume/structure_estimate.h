@@ -49,7 +49,8 @@ struct StructureEstimate {
     double seconds = 0.0;
 };
 // Searches f_0, k, r, the bands b and their warp a (coordinate descent over fixed grids, from the
-// paper's values) with the angle taken from the photo's orientation. `base`
+// paper's fBm, a marble and folded layers, NoiseParams::layers) with the angle taken from the
+// photo's orientation. `base`
 // gives the resolution, octaves and seed, and whether to search the veins
 // (NoiseParams::veins) instead of the plain values.
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base);
