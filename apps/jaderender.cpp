@@ -170,8 +170,8 @@ int run_volume(VolumeOptions& o) {
                 "structure+noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
                 volume.resolution, double(volume.levels.size()) / 1e6, jade::to_string(match),
                 photo.foreground_count(), jade::to_string(structure), noise.frequency, noise.k, noise.stretch,
-                noise.angle, noise.bands, noise.warp, noise.layers ? ", layers" : "", noise.veins ? ", veins" : "", photo_s, volume_s, write_s,
-                o.out.c_str(),
+                noise.angle, noise.bands, noise.warp, noise.layers ? ", layers" : "", noise.veins ? ", veins" : "",
+                photo_s, volume_s, write_s, o.out.c_str(),
                 jade::format_megabytes(double(jade::file_size(o.out))).c_str(), total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
     return 0;
