@@ -39,7 +39,8 @@ void NoiseParams::validate() const {
     if (!(warp >= 0.0 && warp <= 256.0))
         throw Error("--warp must be between 0 and 256 cube sides, got " + std::to_string(warp));
     if (layers && !(bands > 0.0))
-        throw Error("--layers needs --bands above 0 (the layers per cube side of the profile's first octave)");
+        throw Error("--layers needs --bands above 0, the layers per cube side of the profile's first octave "
+                    "(with --structure photo the estimate searches layers by itself)");
 }
 
 namespace {
