@@ -94,9 +94,16 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     cmd.add_option("--warp", o.noise.warp, "How far the fBm displaces the layers, in cube sides (--structure fbm)")
         ->capture_default_str();
     cmd.add_option("--veins", o.noise.veins,
-                   "Take the noise's absolute value: its zero set gets the photo's darkest colours, in thin "
-                   "veins that branch and join as marble's do (with --structure photo the estimate searches "
-                   "veins only; it does not choose them by itself)")
+                   "Thin veins through the structure, where a second fBm is near zero: they get the photo's "
+                   "darkest colours, in curves that branch and join as marble's do (with --structure photo "
+                   "the estimate then searches their frequency and width too; it does not choose veins by itself)")
+        ->capture_default_str();
+    cmd.add_option("--vein-frequency", o.noise.vein_frequency,
+                   "With --veins: cycles per cube side of the veins' first octave (--structure fbm)")
+        ->capture_default_str();
+    cmd.add_option("--vein-width", o.noise.vein_width,
+                   "With --veins: the veins' half-width, a share of their fBm's range about zero; 0.005 is one "
+                   "to two voxels (--structure fbm)")
         ->capture_default_str();
     cmd.add_option("--layers", o.noise.layers,
                    "With --bands: a 1-D fBm across the layers (its octaves' amplitude ratio --k) instead of the "
@@ -166,11 +173,11 @@ int run_volume(VolumeOptions& o) {
     }
 
     std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s: frequency %.2f, "
-                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f%s%s; photo %.2f s, "
+                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f%s; photo %.2f s, "
                 "structure+noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
                 volume.resolution, double(volume.levels.size()) / 1e6, jade::to_string(match),
                 photo.foreground_count(), jade::to_string(structure), noise.frequency, noise.k, noise.stretch,
-                noise.angle, noise.bands, noise.warp, noise.layers ? ", layers" : "", noise.veins ? ", veins" : "",
+                noise.angle, noise.bands, noise.warp, noise.family_suffix().c_str(),
                 photo_s, volume_s, write_s, o.out.c_str(),
                 jade::format_megabytes(double(jade::file_size(o.out))).c_str(), total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
@@ -732,6 +739,9 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
         ->capture_default_str();
     fidelity->add_option("--resolution", fbench.resolution, "Voxels along each side")->capture_default_str();
     fidelity->add_option("--width", fbench.width, "Final render width")->capture_default_str();
+    fidelity->add_option("--veins", fbench.veins,
+                         "The default with --veins (the estimate searches them; the paper's method has none)")
+        ->capture_default_str();
     fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
     auto* stiff = cmd->add_subcommand(
         "stiff", "Stiff media: the white furnace from sigma_t 1 to 1e5, with and without sphere walks");

@@ -131,7 +131,9 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     std::printf("fidelity: %s on %s, volume %d^3, final renders %dx%d; results in %s/\n", b.photo.c_str(),
                 b.mesh.c_str(), b.resolution, b.width, b.height, b.out_dir.c_str());
     std::fflush(stdout);
-    const PipelineResult def = run_pipeline(common_options(b, "default"));
+    PipelineOptions defaults = common_options(b, "default");
+    defaults.noise.veins = b.veins;
+    const PipelineResult def = run_pipeline(defaults);
     const PipelineResult paper = run_pipeline(paper_options(b));
     print_table(def, paper);
     return 0;

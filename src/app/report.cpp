@@ -160,7 +160,8 @@ nlohmann::json volume_json(const PipelineOptions& o, const MaterialVolume& volum
             {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"structure", to_string(volume.structure)},
             {"frequency", volume.noise.frequency}, {"stretch", volume.noise.stretch},
             {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
-            {"veins", volume.noise.veins}, {"layers", volume.noise.layers},
+            {"veins", volume.noise.veins}, {"vein_frequency", volume.noise.vein_frequency},
+            {"vein_width", volume.noise.vein_width}, {"layers", volume.noise.layers},
             {"match", to_string(volume.match)},
             {"extinction", to_string(volume.optics.extinction)},
             {"ds", volume.optics.ds}, {"da", volume.optics.da},
@@ -392,11 +393,10 @@ void print_render_summary(const PipelineResult& r) {
                     r.material->d_stone[2], r.material->structure_stone);
     if (r.structure_estimated)
         std::printf("structure from the photo in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
-                    "bands %.1f, warp %.2f%s%s; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",
+                    "bands %.1f, warp %.2f%s; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",
                     r.seconds_structure, r.structure.chosen.noise.frequency, r.structure.chosen.noise.k,
                     r.structure.chosen.noise.stretch, r.structure.chosen.noise.angle, r.structure.chosen.noise.bands,
-                    r.structure.chosen.noise.warp, r.structure.chosen.noise.layers ? ", layers" : "",
-                    r.structure.chosen.noise.veins ? ", veins" : "",
+                    r.structure.chosen.noise.warp, r.structure.chosen.noise.family_suffix().c_str(),
                     r.structure.chosen.distance,
                     r.structure.paper.distance);
     std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, brightness check %.2f, final render %.2f, writing %.2f; "

@@ -259,6 +259,8 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:bands", openvdb::DoubleMetadata(v.noise.bands));
     meta.insertMeta("jade:warp", openvdb::DoubleMetadata(v.noise.warp));
     meta.insertMeta("jade:veins", openvdb::Int32Metadata(v.noise.veins ? 1 : 0));
+    meta.insertMeta("jade:vein_frequency", openvdb::DoubleMetadata(v.noise.vein_frequency));
+    meta.insertMeta("jade:vein_width", openvdb::DoubleMetadata(v.noise.vein_width));
     meta.insertMeta("jade:layers", openvdb::Int32Metadata(v.noise.layers ? 1 : 0));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
     meta.insertMeta("jade:extinction", openvdb::StringMetadata(to_string(v.optics.extinction)));
@@ -424,6 +426,12 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
         if (veins != 0 && veins != 1) fail_file(path, "metadata 'jade:veins' must be 0 or 1");
         v.noise.veins = veins == 1;
     }
+    // Files from before the veins' own fBm have the defaults (their veins
+    // were the noise's absolute value: their levels are stored, but the
+    // parameters no longer rebuild them).
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:vein_frequency"))
+        v.noise.vein_frequency = m->value();
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:vein_width")) v.noise.vein_width = m->value();
     // Files from before the layers have none.
     if (meta.getMetadata<openvdb::Int32Metadata>("jade:layers") ||
         meta.getMetadata<openvdb::Int64Metadata>("jade:layers")) {

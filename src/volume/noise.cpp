@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace jade {
@@ -17,6 +18,16 @@ int NoiseParams::octave_count() const {
     int n = 0;
     while ((2 << n) <= resolution) ++n;  // floor(log2(s))
     return n < 1 ? 1 : n;
+}
+
+std::string NoiseParams::family_suffix() const {
+    std::string s = layers ? ", layers" : "";
+    if (veins) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, ", veins (frequency %.2f, width %.4g)", vein_frequency, vein_width);
+        s += buf;
+    }
+    return s;
 }
 
 void NoiseParams::validate() const {
@@ -38,6 +49,11 @@ void NoiseParams::validate() const {
         throw Error("--bands must be between 0 (none) and 256 per side, got " + std::to_string(bands));
     if (!(warp >= 0.0 && warp <= 256.0))
         throw Error("--warp must be between 0 and 256 cube sides, got " + std::to_string(warp));
+    if (!(vein_frequency >= 0.125 && vein_frequency <= 64.0))
+        throw Error("--vein-frequency must be between 0.125 and 64 cycles per side, got " +
+                    std::to_string(vein_frequency));
+    if (!(vein_width > 0.0 && vein_width <= 0.5))
+        throw Error("--vein-width must lie above 0 and at most 0.5, got " + std::to_string(vein_width));
     if (layers && !(bands > 0.0))
         throw Error("--layers needs --bands above 0, the layers per cube side of the profile's first octave "
                     "(with --structure photo the estimate searches layers by itself)");
@@ -66,6 +82,13 @@ constexpr double kLayerWarpRatio = 0.5;
 constexpr int kLayerWarpOctaves = 3;
 // Added to the profile offsets' index before hashing, apart from the warp's.
 constexpr std::uint64_t kProfileSalt = 0x9e3779b9ull;
+// The veins' fBm: the paper's amplitude ratio, so their curves are smooth at
+// the large scale and wander at the small, with octaves up to a quarter of a
+// cycle per voxel (finer ones would break the thin veins into specks) and at
+// most six. Its offsets are salted apart from the others'.
+constexpr double kVeinRatio = 0.5;
+constexpr int kVeinOctaves = 6;
+constexpr std::uint64_t kVeinSalt = 0x7f4a7c15ull;
 
 inline int fast_floor(double x) {
     const int i = int(x);
@@ -146,6 +169,16 @@ Fbm::Fbm(const NoiseParams& params)
         profile_octaves_ = std::max(1, profile_octaves_);
         profile_k_ = params.k;
     }
+    if (veins_) {
+        vein_frequency_ = params.vein_frequency / params.resolution;
+        vein_width_ = params.vein_width;
+        while (vein_octaves_ < kVeinOctaves && std::ldexp(vein_frequency_, vein_octaves_) <= 0.25) ++vein_octaves_;
+        vein_octaves_ = std::max(1, vein_octaves_);
+        vein_offset_.resize(3 * std::size_t(vein_octaves_));
+        for (std::size_t i = 0; i < vein_offset_.size(); ++i)
+            vein_offset_[i] =
+                256.0 * to_unit_double(splitmix64((std::uint64_t(params.seed) << 32) ^ (i + kVeinSalt)));
+    }
     warp_ = params.warp * params.resolution / amplitude_sum(k_, octaves_);
     offset_.resize(3 * std::size_t(octaves_));
     for (std::size_t i = 0; i < offset_.size(); ++i)
@@ -161,9 +194,22 @@ double Fbm::frequency(int i) const { return std::ldexp(base_frequency_, i); }
 
 double Fbm::amplitude(int i) const { return std::pow(k_, i + 1); }
 
-double Fbm::bound() const {
+double Fbm::structure_bound() const {
     if (layers_) return amplitude_sum(profile_k_, profile_octaves_);
     return bands_per_voxel_ > 0.0 ? 1.0 : amplitude_sum(k_, octaves_);
+}
+
+double Fbm::bound() const { return structure_bound() + (veins_ ? 1.0 : 0.0); }
+
+double Fbm::vein_field(double x, double y, double z) const {
+    double sum = 0.0, fr = vein_frequency_, amp = kVeinRatio;
+    for (int i = 0; i < vein_octaves_; ++i) {
+        const double* o = &vein_offset_[3 * std::size_t(i)];
+        sum += amp * simplex_(x * fr + o[0], y * fr + o[1], z * fr + o[2]);
+        fr *= 2.0;
+        amp *= kVeinRatio;
+    }
+    return sum / amplitude_sum(kVeinRatio, vein_octaves_);
 }
 
 double Fbm::amplitude_sum(double ratio, int octaves) const {
@@ -201,7 +247,11 @@ double Fbm::operator()(double px, double py, double pz) const {
         value = layer_profile(bands_per_voxel_ * (y + warp_ * sum));
     else if (bands_per_voxel_ > 0.0)
         value = std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum));
-    return veins_ ? std::abs(value) : value;
+    if (!veins_) return value;
+    // Inside a vein, below every value of the structure and darkest along
+    // the veins' zero set; outside, the structure itself.
+    const double d = std::abs(vein_field(px, py, pz));
+    return d < vein_width_ ? d / vein_width_ - 1.0 - structure_bound() : value;
 }
 
 void fbm_slice(const Fbm& fbm, int resolution, int k, float* out) {

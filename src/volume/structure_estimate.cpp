@@ -119,6 +119,8 @@ StructureFit descend(const NoiseParams& start, const PhotoTexture& texture) {
     static const std::vector<double> stretches{1, 1.41, 2, 2.83, 4, 5.66, 8, 11.3, 16};
     static const std::vector<double> bands{0, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24};
     static const std::vector<double> warps{0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1, 1.4, 2, 2.8, 4};
+    static const std::vector<double> vein_frequencies{1, 1.41, 2, 2.83, 4, 5.66};
+    static const std::vector<double> vein_widths{0.0025, 0.005, 0.01, 0.02};
     StructureFit best = evaluate(start, texture);
     auto sweep = [&](const std::vector<double>& grid, double NoiseParams::*field) {
         std::vector<std::optional<StructureFit>> fits(grid.size());
@@ -143,6 +145,10 @@ StructureFit descend(const NoiseParams& start, const PhotoTexture& texture) {
         changed = sweep(stretches, &NoiseParams::stretch) || changed;
         changed = sweep(bands, &NoiseParams::bands) || changed;
         if (best.noise.bands > 0.0) changed = sweep(warps, &NoiseParams::warp) || changed;
+        if (best.noise.veins) {
+            changed = sweep(vein_frequencies, &NoiseParams::vein_frequency) || changed;
+            changed = sweep(vein_widths, &NoiseParams::vein_width) || changed;
+        }
         if (!changed) break;
     }
     return best;
@@ -167,10 +173,12 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     // Three starts, the paper's fBm, a marble and folded layers, because the
     // families' optima are far apart and coordinate descent would not cross
     // between them (the layers stay layers: they need bands).
-    // Asked for veins (base.veins), both start and stay so: the measures
-    // below do not choose veins by themselves (docs/design.md, "Structure").
+    // Asked for veins (base.veins), every start has them and the descent
+    // searches their frequency and width too: the measures below do not
+    // choose veins by themselves (docs/design.md, "Structure").
     NoiseParams fbm = paper;
     fbm.veins = base.veins;
+    fbm.vein_frequency = base.vein_frequency, fbm.vein_width = base.vein_width;
     NoiseParams marble = fbm;
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
     NoiseParams layered = fbm;

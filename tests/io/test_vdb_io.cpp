@@ -66,6 +66,8 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.bands == b.noise.bands);
     CHECK(a.noise.warp == b.noise.warp);
     CHECK(a.noise.veins == b.noise.veins);
+    CHECK(a.noise.vein_frequency == b.noise.vein_frequency);
+    CHECK(a.noise.vein_width == b.noise.vein_width);
     CHECK(a.noise.layers == b.noise.layers);
     CHECK(a.structure == b.structure);
     CHECK(a.match == b.match);
@@ -237,6 +239,7 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     // on the way would fail the rebuild below.
     marble.veins = GENERATE(false, true);
     marble.layers = GENERATE(false, true);
+    marble.vein_frequency = 2.83, marble.vein_width = 0.01;  // not the defaults, so a lost value shows
     MaterialVolume v = sample_volume(16, OpticalParams{}, marble);
     v.structure = StructureMode::Photo;
     write_material_vdb(dir.file("v.vdb"), v);

@@ -98,24 +98,31 @@ TEST_CASE("structure estimate: folded layers of many thicknesses are told from t
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
 }
 
-TEST_CASE("structure estimate: asked for veins, it recovers their frequency and keeps the paper's fBm to compare",
-          "[structure]") {
+TEST_CASE("structure estimate: asked for veins, it recovers their frequency and width and keeps the paper's "
+          "fBm to compare", "[structure]") {
     NoiseParams truth;
     truth.resolution = 128;
     truth.seed = 9;
-    truth.veins = true;
     truth.frequency = 4.0;
     truth.k = 0.5;
+    truth.veins = true;
+    truth.vein_frequency = 1.41;
+    truth.vein_width = 0.01;
     NoiseParams base;
     base.resolution = 128;
     base.veins = true;
     const StructureEstimate e = estimate_structure(photo_of(truth), base);
     const NoiseParams& got = e.chosen.noise;
-    CAPTURE(got.frequency, got.k, got.stretch, got.bands, e.chosen.distance, e.paper.distance);
+    CAPTURE(got.frequency, got.k, got.stretch, got.bands, got.vein_frequency, got.vein_width, e.chosen.distance,
+            e.paper.distance);
     REQUIRE(got.veins);
     REQUIRE_FALSE(e.paper.noise.veins);
     REQUIRE(got.bands == 0.0);
     REQUIRE(got.frequency >= truth.frequency / 2.0);
     REQUIRE(got.frequency <= truth.frequency * 2.0);
+    REQUIRE(got.vein_frequency >= truth.vein_frequency / 2.0);
+    REQUIRE(got.vein_frequency <= truth.vein_frequency * 2.0);
+    REQUIRE(got.vein_width >= truth.vein_width / 2.0);
+    REQUIRE(got.vein_width <= truth.vein_width * 2.0);
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
 }

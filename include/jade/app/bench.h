@@ -81,6 +81,7 @@ struct FidelityBenchOptions {
     std::string out_dir = "fidelity-bench";
     int resolution = 256;          // of both volumes
     int width = 512, height = 512; // of both final renders
+    bool veins = false;            // the default's structure with veins (NoiseParams::veins)
 };
 int run_fidelity_benchmark(const FidelityBenchOptions& options);
 

@@ -22,18 +22,22 @@
 // where the sine's are all alike. The warp is then the paper's fBm
 // (amplitude ratio 1/2, base frequency f_0) of three octaves, smooth, so the
 // packets fold as a whole instead of breaking into a labyrinth.
-// With `veins` the value is the absolute value of either (docs/design.md,
-// "Structure"): its zero set, a surface in the solid and a network of curves
-// in a slice, becomes the lowest values, so colour matching puts the photo's
-// darkest colours there in lines that branch and join, as marble's veins
-// do (the "turbulence" of Perlin 1985 takes |·| per octave and creases
-// every octave; one |·| of the sum creases along the sum's zero set alone).
+// With `veins` a network of thin veins runs through any of these
+// (docs/design.md, "Structure"): where a second, independent fBm V (amplitude
+// ratio 1/2, base frequency `vein_frequency`) lies within `vein_width` of its
+// range of zero, |V|/bound_V < w, the value is -bound - 1 + |V|/(w bound_V),
+// below every value of the structure, so colour matching puts the photo's
+// darkest colours there, darkest along the zero set. The zero set of a smooth
+// 3D field is a surface; a slice cuts it in curves that branch and close
+// into cells, as marble's veins do, and the structure around them (its
+// clouds, grain or layers) keeps its own colours.
 //
 // x is in voxel units, sampled at voxel centres (i + 1/2). Everything is a
 // pure function of (parameters, position): a slice, a voxel or the whole cube
 // comes out identical whatever order or thread computes it.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace jade {
@@ -48,11 +52,16 @@ struct NoiseParams {
     double angle = 0.0;      // degrees counterclockwise from +x toward +y (as seen from +z)
     double bands = 0.0;      // b, layers per cube side across `angle`; 0 = plain fBm
     double warp = 0.1;       // a, how far (cube sides) the fBm displaces the layers
-    bool veins = false;      // the absolute value: the zero set as the darkest veins
+    bool veins = false;      // thin veins through the structure, its darkest values
+    double vein_frequency = 2.0;  // cycles per cube side of the veins' first octave
+    double vein_width = 0.005;    // w, the veins' half-width as a share of their fBm's range
     bool layers = false;     // with bands > 0: a 1-D fBm profile across the layers instead of the sine
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;
+    // The summary lines' tail for the families beyond the fBm and the marble:
+    // ", layers" and ", veins (frequency F, width W)"; empty for neither.
+    std::string family_suffix() const;
     // Throws jade::Error naming the parameter when one is out of range.
     void validate() const;
 };
@@ -82,13 +91,17 @@ public:
     double amplitude(int i) const;
     int octaves() const { return octaves_; }
     // |Noise| never exceeds it: the sum of the amplitudes (1 with bands,
-    // the profile's amplitudes with layers).
+    // the profile's amplitudes with layers), plus 1 with veins.
     double bound() const;
 
 private:
     double amplitude_sum(double ratio, int octaves) const;
     // The 1-D fBm across the layers at t layers (docs/design.md, "Structure").
     double layer_profile(double t) const;
+    // The bound of the structure alone, without the veins.
+    double structure_bound() const;
+    // The veins' fBm at a voxel-space position, over its own bound: in [-1, 1].
+    double vein_field(double x, double y, double z) const;
     SimplexNoise simplex_;
     int octaves_;
     double k_;
@@ -105,6 +118,10 @@ private:
     // corner is a zero of every octave); the shifts decorrelate them.
     std::vector<double> offset_;
     std::vector<double> profile_offset_;  // the same for the layers' octaves
+    double vein_frequency_ = 0.0;   // cycles per voxel of the veins' first octave
+    double vein_width_ = 0.0;
+    int vein_octaves_ = 0;
+    std::vector<double> vein_offset_;     // the same for the veins' octaves
 };
 
 // Noise values of slice z = k (row-major, x fastest), s*s values.
