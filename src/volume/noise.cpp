@@ -84,8 +84,9 @@ constexpr int kLayerWarpOctaves = 3;
 constexpr std::uint64_t kProfileSalt = 0x9e3779b9ull;
 // The veins' fBm: the paper's amplitude ratio, so their curves are smooth at
 // the large scale and wander at the small, with octaves up to a quarter of a
-// cycle per voxel (finer ones would break the thin veins into specks) and at
-// most six. Its offsets are salted apart from the others'.
+// cycle per voxel (the finest sampled at four voxels a cycle, well inside
+// the grid's Nyquist limit) and at most six. Its offsets are salted apart
+// from the others'.
 constexpr double kVeinRatio = 0.5;
 constexpr int kVeinOctaves = 6;
 constexpr std::uint64_t kVeinSalt = 0x7f4a7c15ull;
