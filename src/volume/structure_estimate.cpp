@@ -177,8 +177,7 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     // searches their frequency and width too: the measures below do not
     // choose veins by themselves (docs/design.md, "Structure").
     NoiseParams fbm = paper;
-    fbm.veins = base.veins;
-    fbm.vein_frequency = base.vein_frequency, fbm.vein_width = base.vein_width;
+    fbm.veins = base.veins;  // with base's vein frequency and width as the descent's start
     NoiseParams marble = fbm;
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
     NoiseParams layered = fbm;

@@ -24,8 +24,8 @@
 // packets fold as a whole instead of breaking into a labyrinth.
 // With `veins` a network of thin veins runs through any of these
 // (docs/design.md, "Structure"): where a second, independent fBm V (amplitude
-// ratio 1/2, base frequency `vein_frequency`) lies within `vein_width` of its
-// range of zero, |V|/bound_V < w, the value is -bound - 1 + |V|/(w bound_V),
+// ratio 1/2, base frequency `vein_frequency`) is near zero, |V|/bound_V < w
+// (w = `vein_width`), the value is -bound - 1 + |V|/(w bound_V),
 // below every value of the structure, so colour matching puts the photo's
 // darkest colours there, darkest along the zero set. The zero set of a smooth
 // 3D field is a surface; a slice cuts it in curves that branch and close
