@@ -102,8 +102,9 @@ TEST_CASE("--help documents the flags and exits 0", "[cli]") {
     const Result r = run(dir, "volume --help");
     CHECK(r.code == 0);
     for (const char* flag : {"--photo", "--mask", "--resolution", "--structure", "--octaves", "--k",
-                             "--frequency", "--stretch", "--angle", "--bands", "--warp", "--veins", "--vein-frequency", "--vein-width", "--layers", "--seed",
-                             "--match", "--ds", "--da", "--out"})
+                             "--frequency", "--stretch", "--angle", "--bands", "--warp", "--veins",
+                             "--vein-frequency", "--vein-width", "--layers", "--seed", "--match", "--ds", "--da",
+                             "--out"})
         CHECK_THAT(r.out, Catch::Contains(flag));
     // The top level reads as sections, and ends with an example that works.
     const Result top = run(dir, "--help");

@@ -243,8 +243,8 @@ TEST_CASE("veins: thin curves along a second fBm's zero set, below the structure
     fbm_slice(v, 256, 100, b.data());
     const double blobs = darkest_edge_share(a, 256), lines = darkest_edge_share(b, 256);
     CAPTURE(blobs, lines);
-    CHECK(lines > 0.75);
-    CHECK(blobs < 0.4);  // 0.26 measured
+    CHECK(lines > 0.75);  // 0.91 measured
+    CHECK(blobs < 0.4);   // 0.26 measured
 }
 
 namespace {
