@@ -75,6 +75,7 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     print_row("S photo", def.final_look.s_photo, paper.final_look.s_photo, " %8.2f");
     print_row("D whole render", def.final_look.d, paper.final_look.d, " %8.4f");
     print_row("  the photo's stone, same shading", dm.d_stone, pm.d_stone, " %8.4f");
+    print_row("  the least of any material", dm.d_least, pm.d_least, " %8.4f");
     print_row("S material (photo below)", dm.s_material, pm.s_material, " %8.2f");
     print_row("S photo at the material's scale", dm.s_photo, pm.s_photo, " %8.2f");
     print_row(d_label, d_def, d_paper, " %8.4f");
@@ -110,6 +111,11 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     const auto stone = ratio(dm.d_stone, paper.final_look.d);
     std::printf("  the photo's own stone under the default's shading: D / D(paper) (%.2f, %.2f, %.2f)\n",
                 stone[0], stone[1], stone[2]);
+    // And the least any material reaches there: where it is above 0.5 no
+    // material of the default's density and light meets the goal.
+    const auto least = ratio(dm.d_least, paper.final_look.d);
+    std::printf("  the least of any material under the default's shading: D / D(paper) (%.2f, %.2f, %.2f)\n",
+                least[0], least[1], least[2]);
     std::printf("  material blocks: %d px (%zu blocks) and %d px (%zu blocks); D's blocks %d px and %d px, "
                 "compared over %d px\n",
                 dm.block, dm.blocks, pm.block, pm.blocks, dm.d_block, pm.d_block, d_block);

@@ -119,6 +119,7 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
                                photo_luma(shaded_photo(photo, shading.second, exposure, render_pixels_per_side)),
                                render_pixels_per_side),
         photo_spectrum(photo));
+    m.d_least = least_material_distance(photo, shading.merged(), exposure);
     for (int c = 0; c < 3; ++c) {
         m.s_material[c] = spread.s[c];
         m.s_noise[c] = spread.noise[c];

@@ -127,7 +127,7 @@ Photo photo_of(int side, std::function<Rgb8(int, int)> colour) {
 
 }  // namespace
 
-TEST_CASE("the photo's stone under a shading: the photo back under even light, two levels under two",
+TEST_CASE("the photo's stone under a shading: the photo back under even light, two levels under two; the least of any material",
           "[fitter][appearance]") {
     constexpr int kPhoto = 64;
     SECTION("even shading at the photo's own scale gives the photo's levels back") {
@@ -172,6 +172,10 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
         const SplitFilms halves{even, even, {}};
         const MaterialAppearance m = compare_material(photo, halves, halves, 1.f, kSide);
         for (int c = 0; c < 3; ++c) CHECK(m.d_stone[c] < 1e-3);
+        // Even light shows any histogram of levels: some material reaches
+        // the photo's exactly.
+        for (int c = 0; c < 3; ++c) CHECK(m.d_least[c] >= 0.0);
+        for (int c = 0; c < 3; ++c) CHECK(m.d_least[c] < 1e-5);
         CHECK(m.structure_stone >= 0.0);
         CHECK(m.structure_stone < 0.02);
     }
@@ -189,6 +193,25 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
             // Half the pixels at each level, none at the photo's: D = 1 + ¼ + ¼.
             const RgbHistogram a = RgbHistogram::of(stone.foreground_levels());
             CHECK(histogram_distance(a, RgbHistogram::of(photo.foreground_levels()), c) == Approx(1.5));
+        }
+    }
+    SECTION("the least D of any material under two lights 10⁴ apart: 3/8") {
+        // Any material level shows the dark half at level 0 or the lit half
+        // at 255 (or both), and at most half the pixels at the photo's one
+        // level L. So the mass at 0 and 255 together is at least ½, at L at
+        // most ½: D ≥ (1 − ½)² + u² + (½ − u)² ≥ 3/8. A share α of the
+        // material lighting the lit half to L (dark half at 0) and 1 − α the
+        // dark half (lit half at 255) has A = L/2 + (1 − α)·127.5, which is
+        // the photo's L at α = 1 − L/255: at L = 128 u = α/2 = 0.249 and
+        // D = 3/8 + 2·0.001², so that is the least of A = L.
+        const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{128, 128, 128}; });
+        const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 1.0 : 1e-4; });
+        const std::array<double, 3> least = least_material_distance(photo, shading, 1.f);
+        for (int c = 0; c < 3; ++c) {
+            INFO("channel " << c);
+            // A bound within 1 % of the best mixture found, which is 3/8.
+            CHECK(least[c] <= 0.375 + 1e-5);
+            CHECK(least[c] >= 0.99 * 0.375);
         }
     }
 }

@@ -149,6 +149,10 @@ struct MaterialAppearance {
     // against the photo, as the whole render's D is taken; < 0 where no
     // object pixel's footprint falls mostly on the photo's foreground.
     std::array<double, 3> d_stone{};
+    // The least whole-render D that any material reaches under that
+    // shading (fit/display.h, least_material_distance): below the stone's,
+    // and a bound on every material whose levels do not follow the light.
+    std::array<double, 3> d_least{};
     // And the whole render's structure distance that the shading alone
     // leaves: that stone's (the cross-spectrum of the shading's halves,
     // each with the stone) against the photo's; < 0 as structure_distance.

@@ -138,6 +138,22 @@ Photo flat_render(const Film& render, const Film& shading, float exposure, int b
 // footprint is mostly the photo's background are left out.
 Photo shaded_photo(const Photo& photo, const Film& shading, float exposure, double render_pixels_per_side);
 
+// The least D(κ) against the photo that any material reaches under a shading
+// render, per channel, at the photo's A: the render taken as shading ×
+// material pixel by pixel (the flattening's model, above), the material's
+// levels independent of where the shading falls. The render's histogram is
+// then a mixture of the histograms of a·shading over the material's
+// multipliers a, and the best mixture whose mean level is the photo's A (as
+// the fit makes the render's) is a least-squares fit on the simplex
+// (core/simplex_least_squares.h) over a log grid of a, about 1 % apart,
+// from all pixels at level 0 to all at 255. The value is the fit's certified
+// lower bound, within 1 % (or 10⁻⁵) of the best mixture found: no material
+// whose levels are laid out independently of the light, the photo's own
+// stone included (shaded_photo), scores below it at the photo's A (up to the
+// grid's half-level rounding). −1 where the shading or the photo has no
+// object pixel.
+std::array<double, 3> least_material_distance(const Photo& photo, const Film& shading, float exposure);
+
 // The block for material_spread: the side, in pixels, over which a render of
 // this estimated relative error per pixel averages to 0.1 (at most
 // kMaxMaterialBlock).
