@@ -127,7 +127,7 @@ Photo photo_of(int side, std::function<Rgb8(int, int)> colour) {
 
 }  // namespace
 
-TEST_CASE("the photo's stone under a shading: the photo back under even light, two levels under two; the least of any material",
+TEST_CASE("the photo's stone under a shading: the photo back under even light, two levels under two and the least of any material",
           "[fitter][appearance]") {
     constexpr int kPhoto = 64;
     SECTION("even shading at the photo's own scale gives the photo's levels back") {
