@@ -439,6 +439,40 @@ std::vector<double> scaled_histogram(const std::vector<double>& sorted, double a
 
 }  // namespace
 
+namespace {
+
+// One channel of least_material_distance: `v` the shading's object values,
+// sorted; `target` the photo's histogram and `photo_mean` its A.
+double least_channel_distance(const std::vector<double>& v, const std::vector<double>& target, double photo_mean) {
+    const auto positive = std::upper_bound(v.begin(), v.end(), 0.0);
+    // No light: every material shows black.
+    if (positive == v.end()) return simplex_least_squares({scaled_histogram(v, 1.0)}, target).value;
+    // From every pixel at level 0 to every lit pixel at 255; beyond either
+    // end the histogram no longer changes.
+    const double lo = srgb_decode(0.5 / 255.0) / v.back(), hi = srgb_decode(254.5 / 255.0) / *positive;
+    constexpr double kStep = 0.01;
+    constexpr int kMostColumns = 2048;
+    const int n = std::clamp(int(std::ceil(std::log(hi / lo) / std::log1p(kStep))) + 1, 2, kMostColumns);
+    std::vector<std::vector<double>> columns;
+    MixtureMean mean;
+    for (int j = 0; j < n; ++j) {
+        columns.push_back(scaled_histogram(v, lo * std::pow(hi / lo, double(j) / double(n - 1))));
+        double m = 0.0;
+        for (int l = 0; l < 256; ++l) m += l * columns.back()[std::size_t(l)];
+        mean.column_means.push_back(m);
+    }
+    // The render's A is the photo's, as the fit makes it; where unlit
+    // pixels keep every material below it, the nearest A one reaches.
+    const auto [least, most] = std::minmax_element(mean.column_means.begin(), mean.column_means.end());
+    mean.mean = std::clamp(photo_mean, *least, *most);
+    // To 10⁻⁵ at least: D is reported to 10⁻⁴ (the demo's blue, D about
+    // 6·10⁻⁵, took 7660 iterations to 10⁻⁶ and 600 to 10⁻⁵).
+    constexpr double kRelativeGap = 1e-2, kAbsoluteGap = 1e-5;
+    return simplex_least_squares(columns, target, mean, kRelativeGap, kAbsoluteGap).lower_bound;
+}
+
+}  // namespace
+
 std::array<double, 3> least_material_distance(const Photo& photo, const Film& shading, float exposure) {
     std::array<double, 3> out{-1.0, -1.0, -1.0};
     const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
@@ -453,37 +487,7 @@ std::array<double, 3> least_material_distance(const Photo& photo, const Film& sh
         std::sort(v.begin(), v.end());
         std::vector<double> target(256);
         for (int l = 0; l < 256; ++l) target[std::size_t(l)] = photo_levels.proportion(c, l);
-        const auto positive = std::upper_bound(v.begin(), v.end(), 0.0);
-        std::vector<std::vector<double>> columns;
-        const double photo_mean = photo_levels.mean(c);
-        if (positive == v.end()) {
-            columns.push_back(scaled_histogram(v, 1.0));  // no light: every material is black
-        } else {
-            // From every pixel at level 0 to every lit pixel at 255; beyond
-            // either end the histogram no longer changes.
-            const double lo = srgb_decode(0.5 / 255.0) / v.back(), hi = srgb_decode(254.5 / 255.0) / *positive;
-            constexpr double kStep = 0.01;
-            constexpr int kMostColumns = 2048;
-            const int n = std::clamp(int(std::ceil(std::log(hi / lo) / std::log1p(kStep))) + 1, 2, kMostColumns);
-            for (int j = 0; j < n; ++j)
-                columns.push_back(scaled_histogram(v, lo * std::pow(hi / lo, double(j) / double(n - 1))));
-        }
-        // The render's A must be the photo's, as the fit makes it.
-        MixtureMean mean{{}, photo_mean};
-        for (const std::vector<double>& h : columns) {
-            double m = 0.0;
-            for (int l = 0; l < 256; ++l) m += l * h[std::size_t(l)];
-            mean.column_means.push_back(m);
-        }
-        if (positive == v.end()) {
-            // No light: every material shows black, at A 0 whatever the photo's.
-            out[std::size_t(c)] = simplex_least_squares(columns, target).value;
-            continue;
-        }
-        // To 10⁻⁵ at least: D is reported to 10⁻⁴ (the demo's blue, D about
-        // 6·10⁻⁵, took 7660 iterations to 10⁻⁶ and 600 to 10⁻⁵).
-        constexpr double kRelativeGap = 1e-2, kAbsoluteGap = 1e-5;
-        out[std::size_t(c)] = simplex_least_squares(columns, target, mean, kRelativeGap, kAbsoluteGap).lower_bound;
+        out[std::size_t(c)] = least_channel_distance(v, target, photo_levels.mean(c));
     }
     return out;
 }

@@ -214,4 +214,16 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
             CHECK(least[c] >= 0.99 * 0.375);
         }
     }
+    SECTION("half the object unlit: the photo's A out of reach, the nearest A instead") {
+        // Unlit pixels stay at level 0 whatever the material, so the brightest
+        // render (the lit half at 255) has A 127.5, below the photo's 250.
+        // At that A only that render: ½ at 0, ½ at 255, none at 250: D = 1.5.
+        const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{250, 250, 250}; });
+        const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 0.5 : 0.0; });
+        const std::array<double, 3> least = least_material_distance(photo, shading, 1.f);
+        for (int c = 0; c < 3; ++c) {
+            CHECK(least[c] <= 1.5 + 1e-9);
+            CHECK(least[c] >= 0.99 * 1.5);
+        }
+    }
 }

@@ -13,14 +13,14 @@
 // Beck & Teboulle 2009, restarted whenever the objective rises, O'Donoghue &
 // Candès 2015). The projection onto the simplex sorts (Duchi et al. 2008);
 // with the mean it is the simplex projection of y − μ·m for the μ, found by
-// bisection, that gives the mean.
+// regula falsi, that gives the mean.
 
 #include <vector>
 
 namespace jade {
 
 struct SimplexFit {
-    std::vector<double> weights;  // p, on the simplex (and at the mean, to bisection's precision)
+    std::vector<double> weights;  // p, on the simplex (and at the mean, to the root finder's precision)
     double value = 0.0;           // f(p) = |K·p − h|²
     double lower_bound = 0.0;     // f(p) − gap(p), at most min f (and ≥ 0)
     int iterations = 0;

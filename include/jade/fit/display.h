@@ -150,8 +150,9 @@ Photo shaded_photo(const Photo& photo, const Film& shading, float exposure, doub
 // lower bound, within 1 % (or 10⁻⁵) of the best mixture found: no material
 // whose levels are laid out independently of the light, the photo's own
 // stone included (shaded_photo), scores below it at the photo's A (up to the
-// grid's half-level rounding). −1 where the shading or the photo has no
-// object pixel.
+// grid's half-level rounding). Where unlit pixels (shading 0) keep every
+// material's A below the photo's, at the nearest A any material reaches. −1
+// where the shading or the photo has no object pixel.
 std::array<double, 3> least_material_distance(const Photo& photo, const Film& shading, float exposure);
 
 // The block for material_spread: the side, in pixels, over which a render of
