@@ -74,12 +74,10 @@ SphereExitTables sphere_exit_tables(const Scene& scene, const IntegratorSettings
 // Spectral MIS bookkeeping (pbrt-v4's r_u / r_l). beta is the path
 // throughput divided by the hero channel's sampling density; r_u holds each
 // channel's density relative to the hero's, so beta / average(r_u) is the
-// balance-heuristic estimate across channels. A light hit that the light
-// estimator could also have made weighs beta / average(r_u + r_l), r_l the
-// estimator's density of the same path relative to the same hero density
-// (escape() forms it). Both are rescaled together after every update (the
-// quotients are unchanged) so that long paths neither overflow nor
-// underflow: average(r_u) stays 1.
+// balance-heuristic estimate across channels. Both are rescaled together
+// after every update (the quotients are unchanged) so that long paths
+// neither overflow nor underflow: average(r_u) stays 1. A light reached by
+// two strategies is weighed by light_strategy_weight as well.
 struct SpectralWeight {
     Spectrum beta{1.f};
     Spectrum r_u{1.f};
@@ -95,6 +93,22 @@ struct SpectralWeight {
         r_u /= s;
     }
 };
+
+// The MIS weight of one of the two strategies that reach a light from a
+// vertex, the estimator and phase sampling, for a direction both make: the
+// power heuristic with exponent 2 (Veach 1997, §9.2.4) of this strategy's
+// density of it and the other's. A path's density by either strategy is the same path prefix
+// (each channel's r_u) times that strategy's density of the direction, so
+// the channels' balance heuristic and this factor multiply into weights
+// that sum to one over every channel and strategy. Against the balance
+// heuristic, it gives less weight to the strategy that samples a direction
+// rarely: on the demo at 20° (256², 30 s, three seed pairs) the relative
+// MSE fell 4.5 %, at 5° 2 % (docs/design.md, "Light estimators").
+// Written with the densities' ratio, so that neither square overflows.
+float light_strategy_weight(float pdf_this, float pdf_other) {
+    const float r = pdf_other / pdf_this;
+    return 1.f / (1.f + r * r);
+}
 
 }  // namespace
 
@@ -547,8 +561,8 @@ float Integrator::delta_light_share(PathState& s) const {
 }
 
 // Next-event estimation from medium vertex p with one estimator. Its and
-// the phase function's densities of each other's direction give the
-// balance heuristic's weights; for a path that later meets the light by
+// the phase function's densities of its direction give its MIS weight
+// (light_strategy_weight); for a path that later meets the light by
 // itself, the estimator's density is asked at escape(). A delta sample
 // (no path meets its light) is weighed by `delta_weight` too: the inverse
 // of the share of vertices it is estimated at (kDeltaLaterShare).
@@ -563,8 +577,9 @@ void Integrator::estimate_light(PathState& s, const LightEstimator& estimator, c
         s.out.radiance += s.w.beta * f * arriving * delta_weight;
     else if (estimator.hits() == LightHits::Excluded)
         s.out.radiance += s.w.beta * f * arriving / ls->pdf;
-    else  // r_l = r_u · pdf_light and r_u · pdf_phase for this direction
-        s.out.radiance += s.w.beta * f * arriving / average(s.w.r_u * (ls->pdf + f));
+    else  // f is the phase function's density of the direction too
+        s.out.radiance += s.w.beta * f * arriving *
+                          (light_strategy_weight(ls->pdf, f) / (ls->pdf * average(s.w.r_u)));
 }
 
 // The boundary at `hit`: crossed as if absent when index-matched, otherwise
@@ -689,10 +704,10 @@ void Integrator::escape(PathState& s) const {
 
 // The radiance a path leaving along `leaving` by `chain` (since the last
 // scattering) counts from `light`: all of it, unless an estimator could
-// have made the path too; then none (LightHits::Excluded) or its
-// balance-heuristic share: r_l is the estimator's density of the
-// scattering's direction relative to the phase function's (the events
-// since the scattering, null collisions and the specular chain, scaled
+// have made the path too; then none (LightHits::Excluded) or phase
+// sampling's share (light_strategy_weight) from the estimator's and the
+// phase function's densities of the scattering's direction (the events
+// since the scattering, null collisions and the specular chain, scale
 // both strategies' densities alike). The estimators' path classes are
 // disjoint: at most one has a density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
@@ -713,8 +728,7 @@ Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
         const float pdf_light = estimator->pdf(path, s.counters);
         if (!(pdf_light > 0.f)) continue;
         if (estimator->hits() == LightHits::Excluded) return Spectrum(0.f);
-        const Spectrum r_l = s.w.r_u * (pdf_light / s.phase_pdf);
-        return L / average(s.w.r_u + r_l);
+        return L * (light_strategy_weight(s.phase_pdf, pdf_light) / average(s.w.r_u));
     }
     return L;
 }
