@@ -17,7 +17,8 @@
 // Lights: the environment is met by rays leaving the scene, the directional
 // light by rays leaving within its disc; both are also estimated at every
 // scattering vertex by the scene's light estimators (render/light_estimator.h),
-// weighed against those hits by MIS with pbrt-v4's r_u / r_l bookkeeping. A
+// weighed against those hits by the power heuristic of the two strategies'
+// densities of a direction, times the channels' balance heuristic. A
 // delta light behind a dielectric, which only the estimators reach, is
 // estimated at every one of a path's first scatterings and at a share of
 // the later ones, each of those weighed by the share's inverse.

@@ -4,7 +4,7 @@
 // waiting for a phase-sampled path to meet it (docs/design.md, "Light
 // estimators"). Each one samples a direction at the vertex toward the light
 // and follows it there; the integrator weighs its estimate against phase
-// sampling by multiple importance sampling (the balance heuristic) through
+// sampling by multiple importance sampling (the power heuristic) through
 // the density of that direction.
 //
 // Variants live in render/light_estimators/:

@@ -2,7 +2,7 @@
 // Another estimator, sampled at a vertex with probability q only (a
 // roulette of the light estimate that depends on nothing but q): its
 // sample's density is q times the other's, so next-event estimation and
-// the paths that meet the light keep one balance heuristic between them,
+// the paths that meet the light keep one MIS heuristic between them,
 // and a delta sample's light is divided by q. Unbiased for any q in (0, 1];
 // it pays where an estimate costs many times a path's own step and paths
 // find much of the light by themselves (docs/design.md, "Environment
