@@ -77,7 +77,7 @@ SphereExitTables sphere_exit_tables(const Scene& scene, const IntegratorSettings
 // balance-heuristic estimate across channels. Both are rescaled together
 // after every update (the quotients are unchanged) so that long paths
 // neither overflow nor underflow: average(r_u) stays 1. A light reached by
-// two strategies is weighed by light_strategy_weight as well.
+// two strategies is weighed by mis_weight as well.
 struct SpectralWeight {
     Spectrum beta{1.f};
     Spectrum r_u{1.f};
@@ -94,21 +94,6 @@ struct SpectralWeight {
     }
 };
 
-// The MIS weight of one of the two strategies that reach a light from a
-// vertex, the estimator and phase sampling, for a direction both make: the
-// power heuristic with exponent 2 (Veach 1997, §9.2.4) of this strategy's
-// density of it and the other's. A path's density by either strategy is the same path prefix
-// (each channel's r_u) times that strategy's density of the direction, so
-// the channels' balance heuristic and this factor multiply into weights
-// that sum to one over every channel and strategy. Against the balance
-// heuristic, it gives less weight to the strategy that samples a direction
-// rarely: on the demo at 20° (256², 30 s, three seed pairs) the relative
-// MSE fell 4.5 %, at 5° 2 % (docs/design.md, "Light estimators").
-// Written with the densities' ratio, so that neither square overflows.
-float light_strategy_weight(float pdf_this, float pdf_other) {
-    const float r = pdf_other / pdf_this;
-    return 1.f / (1.f + r * r);
-}
 
 }  // namespace
 
@@ -524,8 +509,9 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     if (!(max_component(s.w.beta) > 0.f)) return false;
     const float directional_share = delta_light_share(s);
     if (directional_share > 0.f)
-        for (const auto& e : estimators_.directional) estimate_light(s, *e, s.collision, 1.f / directional_share);
-    for (const auto& e : estimators_.environment) estimate_light(s, *e, s.collision);
+        for (const auto& e : estimators_.directional)
+            estimate_light(s, *e, estimators_.directional_mis, s.collision, 1.f / directional_share);
+    for (const auto& e : estimators_.environment) estimate_light(s, *e, estimators_.environment_mis, s.collision);
     const glm::vec3 d_in = s.d;
     s.o = s.collision;
     // An isotropic direction does not depend on the incoming one: drawn in
@@ -561,13 +547,13 @@ float Integrator::delta_light_share(PathState& s) const {
 }
 
 // Next-event estimation from medium vertex p with one estimator. Its and
-// the phase function's densities of its direction give its MIS weight
-// (light_strategy_weight); for a path that later meets the light by
+// the phase function's densities of its direction give its MIS weight by
+// the light's heuristic (mis_weight); for a path that later meets the light by
 // itself, the estimator's density is asked at escape(). A delta sample
 // (no path meets its light) is weighed by `delta_weight` too: the inverse
 // of the share of vertices it is estimated at (kDeltaLaterShare).
-void Integrator::estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p,
-                                float delta_weight) const {
+void Integrator::estimate_light(PathState& s, const LightEstimator& estimator, MisHeuristic heuristic,
+                                const glm::vec3& p, float delta_weight) const {
     const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
     const auto ls = estimator.sample(p, u1, u2, s.rng, s.counters);
     if (!ls || !(max_component(ls->radiance) > 0.f)) return;
@@ -579,7 +565,7 @@ void Integrator::estimate_light(PathState& s, const LightEstimator& estimator, c
         s.out.radiance += s.w.beta * f * arriving / ls->pdf;
     else  // f is the phase function's density of the direction too
         s.out.radiance += s.w.beta * f * arriving *
-                          (light_strategy_weight(ls->pdf, f) / (ls->pdf * average(s.w.r_u)));
+                          (mis_weight(heuristic, ls->pdf, f) / (ls->pdf * average(s.w.r_u)));
 }
 
 // The boundary at `hit`: crossed as if absent when index-matched, otherwise
@@ -659,7 +645,8 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
         // reflects off the outside (ChainTracker::glint classes them so).
         s.out.radiance += s.w.beta * (1.f - t.weight) *
                           (scene_.environment.radiance_toward(mirror) +
-                           met_light(s, scene_.light, estimators_.directional, mirror, s.chain.glint(p)));
+                           met_light(s, scene_.light, estimators_.directional, estimators_.directional_mis, mirror,
+                                     s.chain.glint(p)));
     } else if (s.straight) {
         split_reflection(s, p, ng, mirror, 1.f - t.weight);
     } else {
@@ -698,21 +685,24 @@ void Integrator::escape(PathState& s) const {
         s.out.backdrop_direction = s.d;
         return;
     }
-    s.out.radiance += s.w.beta * (met_light(s, scene_.environment, estimators_.environment, s.d, s.chain) +
-                                  met_light(s, scene_.light, estimators_.directional, s.d, s.chain));
+    s.out.radiance +=
+        s.w.beta *
+        (met_light(s, scene_.environment, estimators_.environment, estimators_.environment_mis, s.d, s.chain) +
+         met_light(s, scene_.light, estimators_.directional, estimators_.directional_mis, s.d, s.chain));
 }
 
 // The radiance a path leaving along `leaving` by `chain` (since the last
 // scattering) counts from `light`: all of it, unless an estimator could
 // have made the path too; then none (LightHits::Excluded) or phase
-// sampling's share (light_strategy_weight) from the estimator's and the
+// sampling's share by the light's heuristic (mis_weight) from the estimator's and the
 // phase function's densities of the scattering's direction (the events
 // since the scattering, null collisions and the specular chain, scale
 // both strategies' densities alike). The estimators' path classes are
 // disjoint: at most one has a density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
                                const std::vector<std::unique_ptr<LightEstimator>>& estimators,
-                               const glm::vec3& leaving, const ChainTracker& chain) const {
+                               MisHeuristic heuristic, const glm::vec3& leaving,
+                               const ChainTracker& chain) const {
     const Spectrum L = light.radiance_toward(leaving);
     if (!(max_component(L) > 0.f)) return Spectrum(0.f);
     const std::optional<SpecularChain> made = chain.chain();
@@ -728,7 +718,7 @@ Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
         const float pdf_light = estimator->pdf(path, s.counters);
         if (!(pdf_light > 0.f)) continue;
         if (estimator->hits() == LightHits::Excluded) return Spectrum(0.f);
-        return L * (light_strategy_weight(s.phase_pdf, pdf_light) / average(s.w.r_u));
+        return L * (mis_weight(heuristic, s.phase_pdf, pdf_light) / average(s.w.r_u));
     }
     return L;
 }

@@ -131,6 +131,12 @@ std::shared_ptr<const LightGuide> light_guide(const Scene& scene, const Integrat
 }
 }  // namespace
 
+// Written with the densities' ratio, so that no square overflows.
+float mis_weight(MisHeuristic heuristic, float pdf_this, float pdf_other) {
+    const float r = pdf_other / pdf_this;
+    return heuristic == MisHeuristic::Power ? 1.f / (1.f + r * r) : 1.f / (1.f + r);
+}
+
 LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings,
                                       std::uint64_t seed) {
     LightEstimators e;

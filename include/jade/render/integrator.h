@@ -17,8 +17,9 @@
 // Lights: the environment is met by rays leaving the scene, the directional
 // light by rays leaving within its disc; both are also estimated at every
 // scattering vertex by the scene's light estimators (render/light_estimator.h),
-// weighed against those hits by the power heuristic of the two strategies'
-// densities of a direction, times the channels' balance heuristic. A
+// weighed against those hits by MIS: each light's heuristic of the two
+// strategies' densities of a direction, times the channels' balance
+// heuristic. A
 // delta light behind a dielectric, which only the estimators reach, is
 // estimated at every one of a path's first scatterings and at a share of
 // the later ones, each of those weighed by the share's inverse.
@@ -159,7 +160,7 @@ private:
     std::optional<Flight> draw_flight(PathState& s, std::optional<SurfaceHit>& hit, MediumProperties& at) const;
     bool scatter(PathState& s, const MediumProperties& m) const;
     float delta_light_share(PathState& s) const;
-    void estimate_light(PathState& s, const LightEstimator& estimator, const glm::vec3& p,
+    void estimate_light(PathState& s, const LightEstimator& estimator, MisHeuristic heuristic, const glm::vec3& p,
                         float delta_weight = 1.f) const;
     bool cross_surface(PathState& s, const SurfaceHit& hit) const;
     std::optional<BoundarySample> enter(PathState& s, const glm::vec3& p, const glm::vec3& ng,
@@ -168,7 +169,7 @@ private:
                           float reflectance) const;
     void escape(PathState& s) const;
     Spectrum met_light(PathState& s, const DistantLight& light,
-                       const std::vector<std::unique_ptr<LightEstimator>>& estimators,
+                       const std::vector<std::unique_ptr<LightEstimator>>& estimators, MisHeuristic heuristic,
                        const glm::vec3& leaving, const ChainTracker& chain) const;
     bool survive(PathState& s) const;
 

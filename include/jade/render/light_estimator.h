@@ -99,8 +99,30 @@ struct IntegratorSettings;
 // classes of one light's estimators are disjoint, so each path is weighed
 // by MIS against phase sampling and at most one estimator. The scene must
 // outlive them.
+// How a light's estimates and the paths that meet it by themselves share a
+// direction both strategies make: by the balance heuristic of their
+// densities of it, or by the power heuristic with exponent 2 (Veach 1997,
+// §9.2.4), which gives less weight to the strategy that makes it rarely.
+enum class MisHeuristic { Balance, Power };
+// The weight of the strategy whose density of the direction is pdf_this,
+// against the other's pdf_other (both > 0). A path's density by either
+// strategy is one path prefix (each channel's r_u) times that strategy's
+// density of the direction, so the channels' balance heuristic and this
+// weight multiply into weights that sum to one over every channel and
+// strategy.
+float mis_weight(MisHeuristic heuristic, float pdf_this, float pdf_other);
+
+// The estimators of each light, and the heuristic that weighs each light's
+// against the paths that meet it (docs/design.md, "Light estimators"):
+// the power heuristic for the directional light's disc, whose guide draws
+// most directions where its light is (on the demo at 20°, relative MSE
+// 4.5 % lower than with the balance heuristic, at 5° 2 %); the balance
+// heuristic for an environment image, whose walks are made at a tenth of
+// the vertices (under Blender's sunrise sky the power heuristic's was 4 %
+// higher).
 struct LightEstimators {
     std::vector<std::unique_ptr<LightEstimator>> directional, environment;
+    MisHeuristic directional_mis = MisHeuristic::Power, environment_mis = MisHeuristic::Balance;
 };
 // `seed` keys the light guide's tracing (render/light_guide.h).
 LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings,
