@@ -94,7 +94,6 @@ struct SpectralWeight {
     }
 };
 
-
 }  // namespace
 
 const char* to_string(LightThroughBoundary estimator) {
@@ -548,8 +547,8 @@ float Integrator::delta_light_share(PathState& s) const {
 
 // Next-event estimation from medium vertex p with one estimator. Its and
 // the phase function's densities of its direction give its MIS weight by
-// the light's heuristic (mis_weight); for a path that later meets the light by
-// itself, the estimator's density is asked at escape(). A delta sample
+// the light's heuristic (mis_weight); for a path that later meets the
+// light by itself, the estimator's density is asked at escape(). A delta sample
 // (no path meets its light) is weighed by `delta_weight` too: the inverse
 // of the share of vertices it is estimated at (kDeltaLaterShare).
 void Integrator::estimate_light(PathState& s, const LightEstimator& estimator, MisHeuristic heuristic,
@@ -694,10 +693,10 @@ void Integrator::escape(PathState& s) const {
 // The radiance a path leaving along `leaving` by `chain` (since the last
 // scattering) counts from `light`: all of it, unless an estimator could
 // have made the path too; then none (LightHits::Excluded) or phase
-// sampling's share by the light's heuristic (mis_weight) from the estimator's and the
-// phase function's densities of the scattering's direction (the events
-// since the scattering, null collisions and the specular chain, scale
-// both strategies' densities alike). The estimators' path classes are
+// sampling's share by the light's heuristic (mis_weight) from the
+// estimator's and the phase function's densities of the scattering's
+// direction (the events since the scattering, null collisions and the
+// specular chain, scale both strategies' densities alike). The estimators' path classes are
 // disjoint: at most one has a density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
                                const std::vector<std::unique_ptr<LightEstimator>>& estimators,

@@ -19,10 +19,9 @@
 // scattering vertex by the scene's light estimators (render/light_estimator.h),
 // weighed against those hits by MIS: each light's heuristic of the two
 // strategies' densities of a direction, times the channels' balance
-// heuristic. A
-// delta light behind a dielectric, which only the estimators reach, is
-// estimated at every one of a path's first scatterings and at a share of
-// the later ones, each of those weighed by the share's inverse.
+// heuristic. A delta light behind a dielectric, which only the estimators
+// reach, is estimated at every one of a path's first scatterings and at a
+// share of the later ones, each of those weighed by the share's inverse.
 // Where a ray from outside would reflect straight out of the scene, the
 // reflection is counted at once and the refraction kept by roulette (enter()). What a camera ray
 // that leaves without interacting sees (background, environment or nothing)

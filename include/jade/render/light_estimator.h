@@ -4,8 +4,8 @@
 // waiting for a phase-sampled path to meet it (docs/design.md, "Light
 // estimators"). Each one samples a direction at the vertex toward the light
 // and follows it there; the integrator weighs its estimate against phase
-// sampling by multiple importance sampling (the power heuristic) through
-// the density of that direction.
+// sampling by multiple importance sampling (each light's heuristic,
+// LightEstimators) through the density of that direction.
 //
 // Variants live in render/light_estimators/:
 //   shadow_ray      straight shadow rays through an index-matched boundary
@@ -93,12 +93,6 @@ protected:
     const DistantLight& light_;
 };
 
-struct IntegratorSettings;
-// The estimators a scene calls for, for its directional light and for its
-// environment (none: that light is found by paths that meet it). The path
-// classes of one light's estimators are disjoint, so each path is weighed
-// by MIS against phase sampling and at most one estimator. The scene must
-// outlive them.
 // How a light's estimates and the paths that meet it by themselves share a
 // direction both strategies make: by the balance heuristic of their
 // densities of it, or by the power heuristic with exponent 2 (Veach 1997,
@@ -112,14 +106,18 @@ enum class MisHeuristic { Balance, Power };
 // strategy.
 float mis_weight(MisHeuristic heuristic, float pdf_this, float pdf_other);
 
-// The estimators of each light, and the heuristic that weighs each light's
-// against the paths that meet it (docs/design.md, "Light estimators"):
-// the power heuristic for the directional light's disc, whose guide draws
-// most directions where its light is (on the demo at 20°, relative MSE
-// 4.5 % lower than with the balance heuristic, at 5° 2 %); the balance
-// heuristic for an environment image, whose walks are made at a tenth of
-// the vertices (under Blender's sunrise sky the power heuristic's was 4 %
-// higher).
+struct IntegratorSettings;
+// The estimators a scene calls for, for its directional light and for its
+// environment (none: that light is found by paths that meet it). The path
+// classes of one light's estimators are disjoint, so each path is weighed
+// by MIS against phase sampling and at most one estimator. The scene must
+// outlive them. Each light has its heuristic (docs/design.md, "Light
+// estimators"): the power heuristic for the directional light's disc,
+// whose guide draws most directions where its light is (on the demo at
+// 20°, relative MSE 4.5 % lower than with the balance heuristic, at 5°
+// 2 %); the balance heuristic for an environment image, whose walks are
+// made at a tenth of the vertices (under Blender's sunrise sky the power
+// heuristic's was 4 % higher).
 struct LightEstimators {
     std::vector<std::unique_ptr<LightEstimator>> directional, environment;
     MisHeuristic directional_mis = MisHeuristic::Power, environment_mis = MisHeuristic::Balance;
