@@ -380,6 +380,12 @@ void add_rendering_flags(CLI::App& cmd, RenderFlags& f, const std::string& seed_
                    "sky are weighed against share times its density): the walk costs many path steps, and "
                    "paths find much of a sky by themselves; 1: at every vertex")
         ->capture_default_str();
+    cmd.add_option("--light-share", j.settings.integrator.light_share,
+                   "The share of a path's later medium vertices (from its third scattering) at which the "
+                   "directional light is estimated through a refracting boundary, picked systematically along "
+                   "the path (same image; each estimate weighs 1/share, and paths that meet the light are "
+                   "weighed against share times its density); 1: at every vertex")
+        ->capture_default_str();
     cmd.add_option("--light-guide", j.settings.integrator.light_guide,
                    "For a disc light behind a refracting boundary, trace the light into the object before "
                    "the render and record from which directions it arrives in each cell (straight in, "

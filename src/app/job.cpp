@@ -126,7 +126,8 @@ std::string job_json(const RenderJob& job, const std::string& base_dir) {
                       {"light_nee", to_string(job.settings.integrator.light_through_boundary)},
                       {"light_chain", to_string(job.settings.integrator.light_chain)},
                       {"light_guide", job.settings.integrator.light_guide},
-                      {"env_share", job.settings.integrator.environment_share}}},
+                      {"env_share", job.settings.integrator.environment_share},
+                      {"light_share", job.settings.integrator.light_share}}},
         {"outputs", {{"out", stored_path(job.out, base_dir)}, {"png", stored_path(job.png, base_dir)},
                      {"convergence", stored_path(job.convergence, base_dir)},
                      {"reference", stored_path(job.reference, base_dir)}, {"exposure", job.exposure}}}};
@@ -203,6 +204,7 @@ void read_camera_lights_settings(const json& j, RenderJob& job, const std::strin
     read_light_chain(settings, job.settings.integrator.light_chain, file);
     read(settings, "light_guide", job.settings.integrator.light_guide, file, "settings");
     read(settings, "env_share", job.settings.integrator.environment_share, file, "settings");
+    read(settings, "light_share", job.settings.integrator.light_share, file, "settings");
     read(outputs, "out", job.out, file, "outputs");
     read(outputs, "png", job.png, file, "outputs");
     read(outputs, "convergence", job.convergence, file, "outputs");

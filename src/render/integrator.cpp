@@ -35,21 +35,27 @@ constexpr float kQueryReach = 4.f;
 // same in every voxel (docs/design.md, "Coefficients") up to float rounding.
 constexpr float kNearlyUniform = 1e-3f;
 
-// Behind a dielectric a delta light is reached by the manifold walks alone
-// (render/specular_manifold.h), each about four of the path's own steps.
-// The first scatterings of a path gather most of its light (on the demo's
-// vase, 88 % of what the walks find arrives through less than one mean free
-// path); past them the light is estimated at a share of the vertices, each
-// estimate weighed by its inverse: a roulette of the estimate, unbiased. On
-// the demo's fitted volume in the vase (256², 128 spp, seeds 1 and 2;
+// Behind a dielectric the directional light is estimated at every one of a
+// path's first kEstimatedVertices scatterings, and past them at a share of
+// the vertices (IntegratorSettings::light_share), each estimate weighed by
+// the share's inverse: a roulette of the estimate, unbiased; for a disc, MIS
+// takes the share times the estimator's density, the probability density
+// with which a vertex makes that direction. The first scatterings of a
+// path gather most of its light (on the demo's vase, 88 % of what a delta
+// light's walks find arrives through less than one mean free path). For a
+// delta light (walks about four of the path's own steps each), on the
+// demo's fitted volume in the vase (256², 128 spp, seeds 1 and 2;
 // estimated error² × seconds, lower is better): every vertex 0.137; a share
 // of 0.5 from the first 0.115, from the third 0.107 (0.4: 0.106, 0.3: 0.106,
 // 0.2: 0.119), from the fifth 0.120. With the later vertices chosen
-// systematically (Integrator::delta_light_share; relative MSE from three
+// systematically (Integrator::select_directional; relative MSE from three
 // seeds × seconds, interleaved): 0.4 by coins 0.0174; systematically, 0.5
-// 0.0171, 0.4 0.0149, 0.3 0.0151, 0.25 0.0156, 0.2 0.0154.
-constexpr int kDeltaEstimatedVertices = 2;
-constexpr float kDeltaLaterShare = 0.4f;
+// 0.0171, 0.4 0.0149, 0.3 0.0151, 0.25 0.0156, 0.2 0.0154. For a 20° disc
+// and the guide's estimators (256², 30 s, relative MSE from three seed
+// pairs, two sittings): every vertex 0.00087 and 0.00094; 0.4 from the
+// third 0.00080 and 0.00088 from the second 0.00086 (docs/design.md,
+// "Light estimators").
+constexpr int kEstimatedVertices = 2;
 
 // The sphere exit tables a scene needs: none unless the medium is
 // homogeneous and spheres of level 1 fit in the object with their margin;
@@ -136,6 +142,7 @@ void IntegratorSettings::validate() const {
     if (light_guide_photons < 1) throw Error("internal: the light guide needs at least one ray");
     if (!(environment_share > 0.f && environment_share <= 1.f))
         throw Error("--env-share must lie in (0, 1]");
+    if (!(light_share > 0.f && light_share <= 1.f)) throw Error("--light-share must lie in (0, 1]");
 }
 
 // Everything one path carries from event to event.
@@ -159,10 +166,14 @@ struct Integrator::PathState {
     ChainTracker chain;
     glm::vec3 scattered_at{0.f}, scattered_along{0.f};
     float phase_pdf = 0.f;
+    // The probability that that scattering estimated the directional light
+    // (Integrator::select_directional): MIS takes it times the estimator's
+    // density of the direction.
+    float directional_share = 1.f;
     int depth = 0, crossings = 0;
     int scatterings = 0;       // real collisions in a medium that scattered
-    // The offset of the systematic selection of the delta light's later
-    // vertices (kDeltaLaterShare), drawn at the first of them; < 0 before.
+    // The offset of the systematic selection of the later vertices that
+    // estimate the directional light, drawn at the first of them; < 0 before.
     float later_offset = -1.f;
     glm::vec3 collision{0.f};  // where track() stopped at a real scattering
     float query_from = 0.f;    // the next surface query starts this far along the ray (Scene::spawn_inside)
@@ -198,8 +209,8 @@ Integrator::Integrator(const Scene& scene, const IntegratorSettings& settings, s
     settings_.validate();
     if (!scene.boundary) throw Error("internal: a scene needs a boundary mesh");
     sphere_exits_ = sphere_exit_tables(scene, settings_, seed);
-    thin_delta_light_ = scene.light.on() && scene.light.is_delta() && scene.medium &&
-                        scene.interface.mode != BoundaryMode::None;
+    thin_directional_light_ = scene.light.on() && scene.medium && scene.interface.mode != BoundaryMode::None &&
+                              settings_.light_share < 1.f;
     if (scene.medium) {
         const Spectrum mu = scene.medium->majorant(), floor = scene.medium->minorant();
         for (int c = 0; c < 3; ++c)
@@ -506,10 +517,9 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     const Spectrum sigma_t = m.sigma_s + m.sigma_a;
     s.w.scale(m.sigma_s / sigma_t[s.hero], sigma_t / sigma_t[s.hero]);
     if (!(max_component(s.w.beta) > 0.f)) return false;
-    const float directional_share = delta_light_share(s);
-    if (directional_share > 0.f)
+    if (select_directional(s))
         for (const auto& e : estimators_.directional)
-            estimate_light(s, *e, estimators_.directional_mis, s.collision, 1.f / directional_share);
+            estimate_light(s, *e, estimators_.directional_mis, s.collision, s.directional_share);
     for (const auto& e : estimators_.environment) estimate_light(s, *e, estimators_.environment_mis, s.collision);
     const glm::vec3 d_in = s.d;
     s.o = s.collision;
@@ -530,41 +540,45 @@ bool Integrator::scatter(PathState& s, const MediumProperties& m) const {
     return true;
 }
 
-// The share of the directional light's estimate at this scattering: 1 at
-// every vertex, unless a delta light behind a dielectric is thinned
-// (kDeltaLaterShare): then 1 at the first kDeltaEstimatedVertices, and past
-// them q at the vertices a systematic selection picks, 0 at the others.
-// Each later vertex is picked with probability q, as by a coin, but a path
-// makes ⌊n·q⌋ or ⌈n·q⌉ estimates over n of them, where coins would spread
-// that count by n·q·(1 − q): on the demo's final job (256², 128 spp, three
-// seeds) the relative MSE fell from 0.00125 to 0.00110 at the same walks.
-float Integrator::delta_light_share(PathState& s) const {
-    if (!thin_delta_light_ || ++s.scatterings <= kDeltaEstimatedVertices) return 1.f;
+// Whether this scattering estimates the directional light, and with which
+// probability (s.directional_share): 1 at every vertex, unless the light is
+// behind a dielectric (thin_directional_light_); then 1 at the first
+// kEstimatedVertices, and past them the share (IntegratorSettings::
+// light_share) at the vertices a systematic selection picks. Each later
+// vertex is picked with that probability, as by a coin, but a path makes
+// ⌊n·q⌋ or ⌈n·q⌉ estimates over n of them, where coins would spread that
+// count by n·q·(1 − q): on the demo's final job (256², 128 spp, three seeds)
+// the relative MSE fell from 0.00125 to 0.00110 at the same walks.
+bool Integrator::select_directional(PathState& s) const {
+    s.directional_share = 1.f;
+    if (!thin_directional_light_ || ++s.scatterings <= kEstimatedVertices) return true;
     if (s.later_offset < 0.f) s.later_offset = s.rng.uniform();
-    const int later = s.scatterings - kDeltaEstimatedVertices - 1;
-    return systematic_selected(s.later_offset, later, kDeltaLaterShare) ? kDeltaLaterShare : 0.f;
+    const int later = s.scatterings - kEstimatedVertices - 1;
+    s.directional_share = settings_.light_share;
+    return systematic_selected(s.later_offset, later, settings_.light_share);
 }
 
-// Next-event estimation from medium vertex p with one estimator. Its and
-// the phase function's densities of its direction give its MIS weight by
-// the light's heuristic (mis_weight); for a path that later meets the
-// light by itself, the estimator's density is asked at escape(). A delta sample
-// (no path meets its light) is weighed by `delta_weight` too: the inverse
-// of the share of vertices it is estimated at (kDeltaLaterShare).
+// Next-event estimation from medium vertex p with one estimator, made there
+// with probability `share` (select_directional). Its density of its
+// direction times the share, and the phase function's, give its MIS weight
+// by the light's heuristic (mis_weight); for a path that later meets the
+// light by itself, the estimator's density is asked at escape(). A delta
+// sample (no path meets its light) weighs 1/share.
 void Integrator::estimate_light(PathState& s, const LightEstimator& estimator, MisHeuristic heuristic,
-                                const glm::vec3& p, float delta_weight) const {
+                                const glm::vec3& p, float share) const {
     const float u1 = s.rng.uniform(), u2 = s.rng.uniform();
     const auto ls = estimator.sample(p, u1, u2, s.rng, s.counters);
     if (!ls || !(max_component(ls->radiance) > 0.f)) return;
     const float f = scene_.phase.eval(s.d, ls->direction);
     const Spectrum arriving = ls->radiance * ls->transmittance;
+    const float pdf = share * ls->pdf;  // 0 for a delta sample
     if (ls->is_delta())
-        s.out.radiance += s.w.beta * f * arriving * delta_weight;
+        s.out.radiance += s.w.beta * f * arriving / share;
     else if (estimator.hits() == LightHits::Excluded)
-        s.out.radiance += s.w.beta * f * arriving / ls->pdf;
+        s.out.radiance += s.w.beta * f * arriving / pdf;
     else  // f is the phase function's density of the direction too
-        s.out.radiance += s.w.beta * f * arriving *
-                          (mis_weight(heuristic, ls->pdf, f) / (ls->pdf * average(s.w.r_u)));
+        s.out.radiance +=
+            s.w.beta * f * arriving * (mis_weight(heuristic, pdf, f) / (pdf * average(s.w.r_u)));
 }
 
 // The boundary at `hit`: crossed as if absent when index-matched, otherwise
@@ -644,8 +658,8 @@ std::optional<BoundarySample> Integrator::enter(PathState& s, const glm::vec3& p
         // reflects off the outside (ChainTracker::glint classes them so).
         s.out.radiance += s.w.beta * (1.f - t.weight) *
                           (scene_.environment.radiance_toward(mirror) +
-                           met_light(s, scene_.light, estimators_.directional, estimators_.directional_mis, mirror,
-                                     s.chain.glint(p)));
+                           met_light(s, scene_.light, estimators_.directional, estimators_.directional_mis,
+                                     s.directional_share, mirror, s.chain.glint(p)));
     } else if (s.straight) {
         split_reflection(s, p, ng, mirror, 1.f - t.weight);
     } else {
@@ -686,8 +700,9 @@ void Integrator::escape(PathState& s) const {
     }
     s.out.radiance +=
         s.w.beta *
-        (met_light(s, scene_.environment, estimators_.environment, estimators_.environment_mis, s.d, s.chain) +
-         met_light(s, scene_.light, estimators_.directional, estimators_.directional_mis, s.d, s.chain));
+        (met_light(s, scene_.environment, estimators_.environment, estimators_.environment_mis, 1.f, s.d, s.chain) +
+         met_light(s, scene_.light, estimators_.directional, estimators_.directional_mis, s.directional_share, s.d,
+                   s.chain));
 }
 
 // The radiance a path leaving along `leaving` by `chain` (since the last
@@ -696,11 +711,12 @@ void Integrator::escape(PathState& s) const {
 // sampling's share by the light's heuristic (mis_weight) from the
 // estimator's and the phase function's densities of the scattering's
 // direction (the events since the scattering, null collisions and the
-// specular chain, scale both strategies' densities alike). The estimators' path classes are
-// disjoint: at most one has a density here.
+// specular chain, scale both strategies' densities alike); the estimator's
+// times `share`, the probability that the scattering estimated the light.
+// The estimators' path classes are disjoint: at most one has a density here.
 Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
                                const std::vector<std::unique_ptr<LightEstimator>>& estimators,
-                               MisHeuristic heuristic, const glm::vec3& leaving,
+                               MisHeuristic heuristic, float share, const glm::vec3& leaving,
                                const ChainTracker& chain) const {
     const Spectrum L = light.radiance_toward(leaving);
     if (!(max_component(L) > 0.f)) return Spectrum(0.f);
@@ -714,7 +730,7 @@ Spectrum Integrator::met_light(PathState& s, const DistantLight& light,
     path.reflection = chain.reflection();
     path.exit = chain.exit();
     for (const auto& estimator : estimators) {
-        const float pdf_light = estimator->pdf(path, s.counters);
+        const float pdf_light = share * estimator->pdf(path, s.counters);
         if (!(pdf_light > 0.f)) continue;
         if (estimator->hits() == LightHits::Excluded) return Spectrum(0.f);
         return L * (mis_weight(heuristic, s.phase_pdf, pdf_light) / average(s.w.r_u));

@@ -1127,6 +1127,43 @@ TEST_CASE("the light guide's estimators agree with disc hits with the light a va
     }
 }
 
+TEST_CASE("the directional light estimated at a share of the later vertices: the image of every vertex",
+          "[integrator][render]") {
+    // Behind a dielectric a path estimates the directional light at its
+    // first two scatterings and then at a share of the later ones, picked
+    // systematically, each estimate weighing 1/share; for a disc, paths
+    // that meet it are weighed by MIS against share × the estimator's
+    // density. A dense sphere (optical radius about 10) makes most paths
+    // scatter many times; a forward-scattering phase function makes the
+    // weights depend on the direction. The 20° disc takes the guide's
+    // estimators, the delta light the walks. Same integral at any share, so
+    // the images agree, and a smaller share makes fewer estimates.
+    const MeshAccel accel(sphere());
+    const HomogeneousMedium medium(Spectrum(10.f, 8.f, 6.f), Spectrum(0.3f, 0.6f, 0.4f));
+    const PinholeCamera cam = camera_at({0, 0, 4}, {0, 0, 0}, 40, 32);
+    for (float radius : {20.f, 0.f}) {
+        SECTION(radius > 0.f ? "20 degree disc" : "delta light") {
+            Scene s = basic_scene(accel, &medium, BoundaryMode::Split, Spectrum(0.f));
+            s.phase = PhaseFunction(0.4f);
+            s.light = DirectionalLight({0.3f, 0.8f, 0.5f}, 3.f, radius);
+            RenderSettings rs;
+            rs.spp = 256;
+            rs.seed = 31;
+            rs.integrator.light_share = 1.f;
+            const RenderResult every = render(s, cam, rs);
+            for (float share : {0.4f, 0.1f}) {
+                INFO("share " << share);
+                rs.seed = share > 0.2f ? 32 : 33;
+                rs.integrator.light_share = share;
+                const RenderResult shared = render(s, cam, rs);
+                check_agreement(every.film, shared.film, 8);
+                CHECK(shared.counters.shadow_rays < every.counters.shadow_rays);
+            }
+            CHECK(every.film.mean(16, 16).x > 0.01f);
+        }
+    }
+}
+
 TEST_CASE("light a wall mirrors into a slab: the guided estimate agrees with disc hits", "[integrator][render]") {
     // A wall beside a slab (test_light_guide's scene), seen from above, lit
     // 30° from the vertical from the slab's side: the slab near the wall gets
