@@ -52,9 +52,9 @@ constexpr float kNearlyUniform = 1e-3f;
 // seeds × seconds, interleaved): 0.4 by coins 0.0174; systematically, 0.5
 // 0.0171, 0.4 0.0149, 0.3 0.0151, 0.25 0.0156, 0.2 0.0154. For a 20° disc
 // and the guide's estimators (256², 30 s, relative MSE from three seed
-// pairs, two sittings): every vertex 0.00087 and 0.00094; 0.4 from the
-// third 0.00080 and 0.00088 from the second 0.00086 (docs/design.md,
-// "Light estimators").
+// pairs, interleaved): every vertex 0.00087, 0.4 from the third 0.00080;
+// in another sitting every vertex 0.00094, 0.4 from the second 0.00086
+// (docs/design.md, "Light estimators").
 constexpr int kEstimatedVertices = 2;
 
 // The sphere exit tables a scene needs: none unless the medium is
