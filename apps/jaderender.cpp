@@ -646,9 +646,10 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     app.add_option("--fit-spread-spp", o.fit.spread_spp,
                    "Samples per pixel of the final-size renders --fit contrast reads the material's spread "
                    "S_material from, two a step (0 = as many samples per image as a fitting render, at least " +
-                       std::to_string(jade::kMinSpreadSpp) +
-                       "); more where a faint stone's spread hides in their noise (the fit then leaves the "
-                       "contrast and warns, naming a count that would do)")
+                       std::to_string(jade::kMinSpreadSpp) + ", raised " + std::to_string(jade::kMaxSpreadSppGain) +
+                       " times where a faint stone's spread hides in their noise and that many would show it; else "
+                       "the fit leaves the contrast and warns, naming a count that would do); a count is kept as "
+                       "given")
         ->capture_default_str();
     app.add_option("--fit-max-renders", o.fit.max_renders, "Most fitting renders")->capture_default_str();
     app.add_option("--final-match", o.final_match,

@@ -210,7 +210,8 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
     if (o.fit.method == FitMethod::Contrast)
         j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
                   {"material", fit.s_material}, {"material_block", fit.material_block},
-                  {"spp", fit.spread_spp}, {"spp_advised", fit.spread_spp_advised},
+                  {"spp", fit.spread_spp}, {"spp_raised_from", fit.spread_spp_raised_from},
+                  {"spp_advised", fit.spread_spp_advised},
                   {"contrast_fitted", fit.contrast_fitted}};
     if (!fit.records.empty()) add_final_residuals(fit, j);
     return j;
@@ -332,6 +333,10 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
                     "(from %.4g)\n",
                     fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.material_block, fit.s_photo[0],
                     fit.s_photo[1], fit.s_photo[2], fit.density_scale, fit.density_scale_start);
+    if (contrast && fit.spread_spp_raised_from > 0)
+        std::printf("  S_material hid in the noise of the first step's renders at %d spp; read at %d spp, as the fit "
+                    "raised --fit-spread-spp 0 (%d times, where that many show it; give a count to keep it)\n",
+                    fit.spread_spp_raised_from, fit.spread_spp, kMaxSpreadSppGain);
     if (contrast && !all_s) {
         std::string hidden;
         int count = 0;

@@ -364,11 +364,12 @@ const FitRecord* FitSession::final_record(int c) const {
 // fitting render (16 per pixel where that has 256 at a quarter of the
 // width), so each costs about as much. The noise this leaves (on Onyx010
 // 13–21 levels against S of 27–36) is taken out by the halves' covariance
-// (material_spread) and widens only S's own scatter. --fit-spread-spp
-// sets their count instead, where a faint stone's spread hides in that
-// noise (choose_spread_block).
+// (material_spread) and widens only S's own scatter. Where a faint stone's
+// spread hides in that noise (choose_spread_block), the fit takes more
+// (raise_spread_spp), or --fit-spread-spp sets their count.
 int FitSession::spread_spp() const {
     if (options_.spread_spp > 0) return options_.spread_spp;
+    if (spread_spp_raised_ > 0) return spread_spp_raised_;
     if (!spread_at_final_size_) return outcome_.spp;
     const double pixel_ratio = double(camera_.width()) * camera_.height() /
                                (double(spread_camera().width()) * spread_camera().height());
@@ -590,6 +591,9 @@ struct FitSession::ContrastSearch {
     int block = 0;
     std::array<double, 3> s_photo{};
     std::array<bool, 3> spread_seen{true, true, true};
+    // The warnings for the channels whose S the first step could not read,
+    // given once the count of samples is settled (raise_spread_spp).
+    std::vector<std::string> hidden_warnings;
 };
 
 // One step of --fit contrast at (k_s, g): the volume and its mean medium
@@ -655,14 +659,20 @@ void FitSession::fit_contrast() {
     for (int c = 0; c < 3; ++c) st.jacobian[c].m[0][0] = slope[c];
     while (fitting_renders() + step_cost() <= options_.max_renders) {
         const StepRenders step = step_renders(st.k, st.g);
-        const MaterialSpread spread = st.block == 0
-                                          ? choose_spread_block(st, step)
-                                          : material_spread(step.render, step.shading, outcome_.exposure, st.block);
+        const bool first = st.block == 0;
+        const MaterialSpread spread = first ? choose_spread_block(st, step)
+                                            : material_spread(step.render, step.shading, outcome_.exposure, st.block);
         FitRecord& rec = step.whole ? record(st.k, st.g, *step.whole) : *rendered_at(st.k, st.g);
         if (step.whole) rec.from_final_size = step.downsampled;
         rec.s_material = spread.s;
         rec.s_material_noise = spread.noise;
         rec.s_photo_scaled = st.s_photo;
+        // The row stays (a render like any); the step is made again at more
+        // samples and rewrites its readings.
+        if (first && raise_spread_spp(st)) continue;
+        if (first) {
+            for (const std::string& w : st.hidden_warnings) outcome_.warnings.push_back(w);
+        }
         // ΔA where the final render will have it: at the final size, from
         // its halves there (the fitting size's A differs by up to 10 levels
         // on a small object; docs/design.md, "Contrast").
@@ -699,9 +709,11 @@ void FitSession::fit_contrast() {
 // scatter from one step to the next is larger than either (Marble021, a
 // near-white marble: at 8-px blocks noise 4.7 levels against the photo's
 // 1.7 and S 0–0.7; S read 0 to 21 and the contrast ran to its cap), and a
-// search on it follows the noise. That channel's contrast then stays at its
-// start and k_s alone matches A (contrast_step); the density scale stays
-// too, and a warning says so. Returns the first step's spread.
+// search on it follows the noise. Unless more samples would show it, within
+// reach (raise_spread_spp: the step is then made again), that channel's
+// contrast stays at its start and k_s alone matches A (contrast_step); the
+// density scale stays too, and a warning says so. Returns the first step's
+// spread.
 MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRenders& step) {
     const double error = spread_at_final_size_
                              ? step.render.merged().estimated_relative_error() *
@@ -721,9 +733,36 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
         const int spp = r.quiet ? spp_for_noise(spread_spp(), std::sqrt(q.spread.scatter[c]), std::sqrt(r.scatter_limit))
                                 : spp_for_noise(spread_spp(), q.spread.noise[c], r.noise_limit);
         outcome_.spread_spp_advised = std::max(outcome_.spread_spp_advised, spp);
-        outcome_.warnings.push_back(hidden_spread_warning(c, q, st.g[c], r.quiet, spp));
+        st.hidden_warnings.push_back(hidden_spread_warning(c, q, st.g[c], r.quiet, spp));
     }
     return q.spread;
+}
+
+// Where the first step found a channel's S_material hidden in its renders'
+// noise and named a count that would show it (choose_spread_block), within
+// kMaxSpreadSppGain times the count --fit-spread-spp 0 chose: that many
+// times from now on, and the first step again there (the search has not
+// moved yet). Not the count named: it is the least at which the noise
+// falls under the rule's limit, where S still scatters as far as the rule
+// allows. On Marble021's vase at the 32 named, red read 1.1 levels against
+// the photo's 2.4 at contrast 1, within the S tolerance, and stayed there
+// while green and blue rose to 2.3, tinting the dark voxels pink; at 64 all
+// three came to 2.1–2.3. The first step's renders are spent and stay
+// counted. A count the user gave is kept as given, and the count is raised
+// once.
+bool FitSession::raise_spread_spp(ContrastSearch& st) {
+    const int advised = outcome_.spread_spp_advised;
+    const int most = kMaxSpreadSppGain * spread_spp();
+    if (options_.spread_spp > 0 || spread_spp_raised_ > 0 || advised <= 0 || advised > most ||
+        fitting_renders() + 2 * step_cost() > options_.max_renders)
+        return false;
+    outcome_.spread_spp_raised_from = spread_spp();
+    spread_spp_raised_ = most;
+    outcome_.spread_spp_advised = 0;
+    st.block = 0;
+    st.spread_seen = {true, true, true};
+    st.hidden_warnings.clear();
+    return true;
 }
 
 // The warning for a channel whose S_material the fit's renders cannot show

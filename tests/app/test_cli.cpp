@@ -788,6 +788,7 @@ TEST_CASE("pipeline: where the fit's noise hides the material's spread, the summ
     CHECK_THAT(r.err, Catch::Contains("red: the contrast was not fitted"));
     const std::string report = slurp(dir.file("out/report.json"));
     CHECK(json_field(report, "spp_advised") == " 0");
+    CHECK(json_field(report, "spp_raised_from") == " 0");
 }
 
 TEST_CASE("pipeline: a render that clips at a given exposure is reported, not converged", "[cli][fit]") {

@@ -15,6 +15,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <sstream>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -700,5 +702,95 @@ TEST_CASE("contrast fit: where the renders' noise hides S_material, the contrast
         });
         REQUIRE(judged != out.records.end());
         CHECK(std::abs(judged->a_final_size[c] - judged->a_photo[c]) < out.limits.tolerance);
+    }
+}
+
+TEST_CASE("contrast fit: where the first step's noise hides S_material and more samples would show it, the fit "
+          "takes them",
+          "[fitter][contrast][fit-session]") {
+    // The scene of the test above, and a photo of four patches 16 levels
+    // apart in every channel: S is 8 levels over any block inside a patch.
+    // At 16 samples per pixel (the floor at 48²) the first step's noise
+    // hides red's S and names 64, within kMaxSpreadSppGain times: with
+    // --fit-spread-spp 0 the fit takes that many and fits every channel's
+    // contrast; given as 16, the count stays and the warning names 64.
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 48);
+    constexpr int kHalfStep = 8;
+    Photo photo;
+    photo.width = photo.height = 32;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const int d = ((x < 16) == (y < 16)) ? kHalfStep : -kHalfStep;
+            photo.levels.push_back(Rgb8{std::uint8_t(150 + d), std::uint8_t(120 + d), std::uint8_t(100 + d)});
+        }
+    photo.foreground.assign(photo.levels.size(), 1);
+    FitOptions options;
+    options.width = 24;
+    options.spp = 16;
+    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
+    options.contrast_start = std::array<double, 3>{0.05, 0.05, 0.05};
+    RenderSettings settings;
+    const auto fit = [&](int spread_spp) {
+        FitOptions o = options;
+        o.spread_spp = spread_spp;
+        FitSession session(t.volume, t.scene, t.camera, settings, photo, o);
+        return session.run();
+    };
+    const auto describe = [](const FitOutcome& out) {
+        std::ostringstream s;
+        s << "contrast " << out.contrast[0] << ", " << out.contrast[1] << ", " << out.contrast[2] << " in "
+          << out.renders << " renders; S " << out.s_material[0] << ", " << out.s_material[1] << ", "
+          << out.s_material[2] << " against " << out.s_photo[0] << ", " << out.s_photo[1] << ", " << out.s_photo[2]
+          << " in " << out.material_block << " px blocks at " << out.spread_spp << " spp (raised from "
+          << out.spread_spp_raised_from << ", advised " << out.spread_spp_advised << ")\n";
+        for (const std::string& w : out.warnings) s << w << "\n";
+        return s.str();
+    };
+    const FitOutcome given = fit(kMinSpreadSpp);
+    const FitOutcome raised = fit(0);
+    INFO("given: " << describe(given) << "raised: " << describe(raised));
+
+    CHECK(given.spread_spp == kMinSpreadSpp);
+    CHECK(given.spread_spp_raised_from == 0);
+    CHECK_FALSE(given.contrast_fitted[0]);
+    CHECK(given.spread_spp_advised == 4 * kMinSpreadSpp);
+    REQUIRE_FALSE(given.warnings.empty());
+    CHECK_THAT(given.warnings[0], Catch::Contains("--fit-spread-spp 64 would show it"));
+
+    CHECK(raised.spread_spp_raised_from == kMinSpreadSpp);
+    CHECK(raised.spread_spp == kMaxSpreadSppGain * kMinSpreadSpp);
+    CHECK(raised.spread_spp_advised == 0);
+    for (const std::string& w : raised.warnings) CHECK_THAT(w, !Catch::Contains("the contrast was not fitted"));
+    REQUIRE(raised.converged);
+    // The photo's S at the fit's blocks: 8 levels, less where a block
+    // straddles two patches.
+    for (int c = 0; c < 3; ++c) {
+        CHECK(raised.contrast_fitted[c]);
+        CHECK(raised.s_photo[c] <= kHalfStep + 1e-9);
+        CHECK(raised.s_photo[c] > kHalfStep - 1.0);
+    }
+    // Measured apart from the fit (256 samples per pixel, another seed, its
+    // halves at the final size): the fitted material spreads as the photo
+    // does, within the fit's tolerance and the measurement's own scatter.
+    OpticalParams fitted = t.volume.optics;
+    fitted.ks = raised.ks;
+    fitted.contrast = raised.contrast;
+    fitted.density_scale = raised.density_scale;
+    OpticalParams mean_medium = fitted;
+    mean_medium.contrast = {0.0, 0.0, 0.0};
+    const MaterialVolumeMedium material(t.volume, t.volume.cube, fitted);
+    const MaterialVolumeMedium shading(t.volume, t.volume.cube, mean_medium, material.majorant());
+    RenderSettings measure;
+    measure.spp = 256;
+    measure.seed = 7;
+    Scene scene = t.scene;
+    scene.medium = &material;
+    const SplitFilms r = render_halves(scene, PinholeCamera(t.camera), measure);
+    scene.medium = &shading;
+    const SplitFilms s = render_halves(scene, PinholeCamera(t.camera), measure);
+    const MaterialSpread m = material_spread(r, s, raised.exposure, raised.material_block);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": S measured " << m.s[c] << " (noise " << m.noise[c] << ")");
+        CHECK(std::abs(m.s[c] - raised.s_photo[c]) < options.s_tolerance + 1.0);
     }
 }

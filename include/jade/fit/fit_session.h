@@ -42,6 +42,15 @@ constexpr int kFirstFitSpp = 128;
 // each half (render_quarters needs a turn of every replicate in each
 // quarter).
 constexpr int kMinSpreadSpp = 16;
+// Where the first contrast step finds a channel's S_material hidden in its
+// renders' noise and names a count that would show it within this many
+// times its own, --fit-spread-spp 0 takes that many (16 → 64 at the default
+// sizes; FitSession::raise_spread_spp says why not the count named): a
+// near-white marble's contrast is then fitted without a second
+// run, each step's two images at the final size costing half the final
+// render (an eighth at 16). Beyond it a step would cost as much as the final
+// render or more.
+constexpr int kMaxSpreadSppGain = 4;
 
 struct FitOptions {
     FitMethod method = FitMethod::Contrast;
@@ -58,7 +67,9 @@ struct FitOptions {
     double error = 0.4;         // and the estimated relative error (per pixel)
     int spp_max = 4096;         // the most the first fitting render doubles to
     // Samples per pixel of the renders --fit contrast reads S_material from
-    // (FitSession::spread_spp); 0 = as many per image as a fitting render.
+    // (FitSession::spread_spp); 0 = as many per image as a fitting render,
+    // raised kMaxSpreadSppGain times where that hides a channel's S and
+    // that many would show it.
     int spread_spp = 0;
     int max_renders = 24;
     double k_max = 4.0;         // FitLimits::k_max; k_min follows from the volume
@@ -106,6 +117,9 @@ struct FitOutcome {
     std::array<double, 3> s_material{-1, -1, -1}, s_photo{-1, -1, -1};
     int material_block = 0;               // final-render pixels per side of the blocks S_material is taken over
     int spread_spp = 0;                   // samples per pixel of the renders S_material is read from
+    // The count the first step rendered at where S_material hid in its noise
+    // and the fit raised spread_spp (kMaxSpreadSppGain); 0 where it did not.
+    int spread_spp_raised_from = 0;
     // The --fit-spread-spp at which every channel whose contrast was not
     // fitted would show its S (spp_for_noise; the largest of theirs); 0
     // where every channel's was fitted, or no count would do.
@@ -192,6 +206,7 @@ private:
     struct ContrastSearch;
     void fit_contrast();
     MaterialSpread choose_spread_block(ContrastSearch& search, const StepRenders& step);
+    bool raise_spread_spp(ContrastSearch& search);
     std::string hidden_spread_warning(int c, const QuietBlock& q, double g, bool quiet, int spp) const;
     void finish_contrast(const ContrastSearch& search);
     void contrast_step(ContrastSearch& search, int channel, double delta, double s);
@@ -235,6 +250,7 @@ private:
     // fitting-size one: box_downsampled), else 0.
     int box_factor_;
     int spread_renders_ = 0;         // renders at the final size (two a step; not rows of fit.csv)
+    int spread_spp_raised_ = 0;      // raise_spread_spp's count; 0 = spread_spp()'s own
     // The density scale of the fitting renders and the majorant they share
     // (that of k_s = k_max at every contrast, at this density scale).
     double density_scale_;
