@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 namespace jade {
 
@@ -73,16 +74,6 @@ std::unique_ptr<Progress> render_bar(const PipelineOptions& o, const PreparedSce
     return std::make_unique<Progress>(label, std::size_t(prep.camera.width) * prep.camera.height * settings.spp);
 }
 
-// The final render of `medium`.
-RenderResult final_render(const PipelineOptions& o, const PreparedScene& prep, const Medium& medium,
-                          const char* label) {
-    Scene scene = prep.scene;
-    scene.medium = &medium;
-    const RenderSettings settings = final_settings(o, prep);
-    const std::unique_ptr<Progress> bar = render_bar(o, prep, settings, label);
-    return render(scene, PinholeCamera(prep.camera), settings, bar.get());
-}
-
 // `medium` at the final render's size, seed and `spp`, in halves and
 // quarters (material_spread extrapolates from both).
 SplitFilms final_quarters(const PipelineOptions& o, const PreparedScene& prep, const Medium& medium, int spp,
@@ -113,19 +104,66 @@ MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScen
                             render_pixels_per_side(prep.camera, volume.cube));
 }
 
+// The final render of the fitted volume, able to pause (ProgressiveRender):
+// the medium at the volume's optics as they are when it is made, the scene
+// holding it, and its progress bar. Not movable: the scene points at the
+// medium.
+struct FinalRender {
+    FinalRender(const PipelineOptions& o, const PreparedScene& prep, const MaterialVolume& volume)
+        : medium(volume, volume.cube), scene(with_medium(prep.scene, medium)), settings(final_settings(o, prep)),
+          bar(render_bar(o, prep, settings, "final render")), render(scene, PinholeCamera(prep.camera), settings) {}
+    FinalRender(const FinalRender&) = delete;
+    static Scene with_medium(Scene scene, const Medium& medium) {
+        scene.medium = &medium;
+        return scene;
+    }
+    MaterialVolumeMedium medium;
+    Scene scene;
+    RenderSettings settings;
+    std::unique_ptr<Progress> bar;
+    ProgressiveRender render;
+};
+
+// The samples per pixel the brightness check renders at full size with: a
+// quarter of the final render's, at least 64.
+int check_spp(const PipelineOptions& o) { return std::max(64, o.render.settings.spp / 4); }
+
+// Whether the brightness check reads A at full size from the final render's
+// first check_spp samples (made once, and carried on from where k_s stays:
+// on Marble021 and the bunny a quarter of the final render, 25 s, no longer
+// made twice) rather than from a render of its own: where it must render at
+// full size at all (FitSession::brightness_from_fit), and the final render
+// has more samples than that and no time budget or target error, which
+// could stop it short of them.
+bool check_reads_final_render(const PipelineOptions& o, const FitSession& session) {
+    const RenderSettings& s = o.render.settings;
+    return !session.brightness_from_fit() && s.spp > check_spp(o) && s.time_limit == 0.0 && s.target_error == 0.0;
+}
+
 // At the final render's size A differs from the fitting renders'
 // (FitSession::final_brightness): taken from --fit contrast's renders at that
 // size, or else measured at a quarter of the final render's samples (at
-// least 64); where a channel is foreseen off by 0.4 of the tolerance or
-// more, its k_s moves before the final render.
+// least 64), from `final_render`'s first ones where given; where a channel
+// is foreseen off by 0.4 of the tolerance or more, its k_s moves before the
+// final render.
 void check_final_brightness(const PipelineOptions& o, const FitSession& session, MaterialVolume& volume,
-                            PipelineResult& res) {
+                            FinalRender* final_render, PipelineResult& res) {
     const Stopwatch clock;
     BrightnessCheck check;
-    const FitSession::FinalBrightness f = session.final_brightness(std::max(64, o.render.settings.spp / 4));
+    const int spp = check_spp(o);
+    // The object alone, as the fit measured it (docs/design.md, "The
+    // backdrop"): the final render's samples less the backdrop's share.
+    std::optional<Film> object_alone;
+    if (final_render) {
+        const Film& film = final_render->render.result().film;
+        object_alone.emplace(film.width(), film.height());
+        final_render->render.run_to(spp, final_render->bar.get(), nullptr, &*object_alone);
+    }
+    const FitSession::FinalBrightness f = session.final_brightness(spp, object_alone ? &*object_alone : nullptr);
     check.seconds = clock.seconds();
     check.spp = f.spp;
     check.from_fit = f.from_fit;
+    check.from_final_render = f.from_final_render;
     check.delta = f.delta;
     check.size_change = f.size_change;
     check.expected = f.expected;
@@ -134,6 +172,25 @@ void check_final_brightness(const PipelineOptions& o, const FitSession& session,
     check.ks_after = f.ks;
     volume.optics.ks = f.ks;
     res.brightness_check = check;
+}
+
+// The brightness check, then the final render: carried on from the
+// check's samples where it read them and kept k_s, else made whole.
+void check_and_render(const PipelineOptions& o, const PreparedScene& prep, const FitSession& session,
+                      MaterialVolume& volume, PipelineResult& res) {
+    Stopwatch clock;
+    std::unique_ptr<FinalRender> final_render;
+    if (o.final_match && o.fit.method != FitMethod::None) {
+        if (check_reads_final_render(o, session)) final_render = std::make_unique<FinalRender>(o, prep, volume);
+        check_final_brightness(o, session, volume, final_render.get(), res);
+        if (res.brightness_check->corrected()) final_render.reset();
+    }
+    res.seconds_check = clock.seconds();
+    clock = Stopwatch();
+    if (!final_render) final_render = std::make_unique<FinalRender>(o, prep, volume);
+    final_render->render.run_to(final_render->settings.spp, final_render->bar.get());
+    res.final_render = std::move(final_render->render).take();
+    res.seconds_render = clock.seconds();
 }
 
 // The final render as a job that replays it from the written volume, with the
@@ -265,12 +322,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     volume.optics.density_scale = res.fit.density_scale;
     volume.exposure = res.fit.exposure;
 
-    clock = Stopwatch();
-    if (o.final_match && o.fit.method != FitMethod::None) check_final_brightness(o, session, volume, res);
-    res.seconds_check = clock.seconds();
-    clock = Stopwatch();
-    res.final_render = final_render(o, *prep, MaterialVolumeMedium(volume, volume.cube), "final render");
-    res.seconds_render = clock.seconds();
+    check_and_render(o, *prep, session, volume, res);
     if (o.measure_material) res.material = measure_material(o, *prep, volume, photo, res);
 
     res.seconds_total = total.seconds();

@@ -230,7 +230,7 @@ nlohmann::json final_render_json(const PipelineReport& in) {
 }
 
 nlohmann::json brightness_check_json(const BrightnessCheck& b) {
-    return {{"A_full_size_from", b.from_fit ? "fit renders" : "check renders"},
+    return {{"A_full_size_from", b.from_fit ? "fit renders" : b.from_final_render ? "final render" : "check renders"},
             {"spp", b.spp}, {"seconds", b.seconds}, {"A_size_change", b.size_change},
             {"delta_A", b.delta}, {"fitting_renders", b.renders},
             {"delta_A_expected", b.expected},
@@ -357,10 +357,14 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
                     best->a_render[2], best->delta[0], best->delta[1], best->delta[2], best->a_sigma[0],
                     best->a_sigma[1], best->a_sigma[2]);
     if (const auto& b = r.brightness_check) {
-        std::printf("brightness check in %.1f s, A at full size from the %s renders at %d spp: A at full size less A "
+        const std::string spp = std::to_string(b->spp);
+        const std::string source = b->from_fit            ? "the fit's renders at " + spp + " spp"
+                                   : b->from_final_render ? "the final render's first " + spp + " spp"
+                                                          : "the check's renders at " + spp + " spp";
+        std::printf("brightness check in %.1f s, A at full size from %s: A at full size less A "
                     "at the fitting size (%+.2f, %+.2f, %+.2f), so dA (%+.2f, %+.2f, %+.2f) expected",
-                    b->seconds, b->from_fit ? "fit's" : "check's", b->spp, b->size_change[0], b->size_change[1],
-                    b->size_change[2], b->delta[0], b->delta[1], b->delta[2]);
+                    b->seconds, source.c_str(), b->size_change[0], b->size_change[1], b->size_change[2], b->delta[0],
+                    b->delta[1], b->delta[2]);
         if (b->corrected())
             std::printf("; k_s corrected to (%.4f, %.4f, %.4f) (fitting renders: %d), dA (%+.2f, %+.2f, %+.2f) "
                         "expected\n",
@@ -375,8 +379,12 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
 // the photo, the stages' seconds and the files written.
 void print_render_summary(const PipelineResult& r) {
     const PassRecord& last = r.final_render.passes.back();
-    std::printf("final render: %s in %.1f s, estimated relative error %.4f\n", format_spp(last).c_str(),
+    std::printf("final render: %s in %.1f s, estimated relative error %.4f", format_spp(last).c_str(),
                 r.final_render.seconds, last.estimated_error);
+    const std::optional<BrightnessCheck>& check = r.brightness_check;
+    if (check && check->from_final_render && !check->corrected())
+        std::printf(" (its first %d spp made during the brightness check)", check->spp);
+    std::printf("\n");
     const Appearance& look = r.final_look;
     std::printf("final render against the photo: A (%.1f, %.1f, %.1f) / (%.1f, %.1f, %.1f), S (%.1f, %.1f, %.1f) / "
                 "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f\n",

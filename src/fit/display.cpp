@@ -7,6 +7,8 @@
 #include "jade/volume/photo.h"
 #include "jade/volume/structure_estimate.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -268,8 +270,11 @@ ObjectChannel flat_blocks(const ImageF32& render, const ImageF32& shading, int c
 // pieces share.
 std::vector<double> pair_covariances(const std::vector<ImageF32>& render, const std::vector<ImageF32>& shading,
                                      int c, float exposure, int block) {
-    std::vector<ObjectChannel> flat;
-    for (std::size_t i = 0; i < render.size(); ++i) flat.push_back(flat_blocks(render[i], shading[i], c, exposure, block));
+    // Each piece flattened on its own (tasks alike whatever the thread
+    // count: the same sums in the same order, the same result).
+    std::vector<ObjectChannel> flat(render.size());
+    tbb::parallel_for(std::size_t(0), render.size(),
+                      [&](std::size_t i) { flat[i] = flat_blocks(render[i], shading[i], c, exposure, block); });
     std::vector<double> out;
     for (std::size_t i = 0; i < flat.size(); ++i)
         for (std::size_t j = i + 1; j < flat.size(); ++j) out.push_back(level_covariance(flat[i], flat[j]));
@@ -302,7 +307,10 @@ MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shadi
         shading_halves{film_image(shading.first), film_image(shading.second)};
     const ImageF32 whole = film_image(render.merged()), whole_shading = film_image(shading.merged());
     MaterialSpread m;
-    for (int c = 0; c < 3; ++c) {
+    // The channels apart, in parallel: 21 images flattened, each a
+    // bisection of 35 passes with an sRGB encoding per pixel (seconds on one
+    // core at 512², a wait at every contrast step).
+    tbb::parallel_for(0, 3, [&](int c) {
         double variance = mean_of(pair_covariances(halves, shading_halves, c, exposure, block));
         // Richardson: the bias falls as 1/n, so V(∞) ≈ 2·V(n/2) − V(n/4).
         if (!render.quarters.empty()) {
@@ -314,7 +322,7 @@ MaterialSpread material_spread(const SplitFilms& render, const SplitFilms& shadi
         const double spread = level_spread(flat_blocks(whole, whole_shading, c, exposure, block));
         m.s[c] = std::sqrt(std::max(0.0, variance));
         m.noise[c] = std::sqrt(std::max(0.0, spread * spread - m.s[c] * m.s[c]));
-    }
+    });
     return m;
 }
 

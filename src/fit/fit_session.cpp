@@ -402,7 +402,32 @@ constexpr double kBrightnessAim = 0.4;
 constexpr double kForesightWhiteShare = 0.1;
 }  // namespace
 
-FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
+// Per channel, the record final_brightness starts from and whether its k_s
+// was fitted (a brightness slope is known).
+struct FitSession::BrightnessStart {
+    std::array<const FitRecord*, 3> at{};
+    std::array<bool, 3> fitted{};
+};
+
+FitSession::BrightnessStart FitSession::brightness_start() const {
+    BrightnessStart b;
+    for (int c = 0; c < 3; ++c) {
+        b.at[c] = final_record(c);
+        b.fitted[c] = b.at[c] && outcome_.brightness_slope[c] > 0.0;
+    }
+    return b;
+}
+
+bool FitSession::brightness_from_fit() const {
+    if (!spread_at_final_size_) return false;
+    const BrightnessStart b = brightness_start();
+    for (int c = 0; c < 3; ++c)
+        if (b.fitted[c] && !(b.at[c]->a_final_size[c] >= 0.0 && b.at[c]->at_white[c] <= kForesightWhiteShare))
+            return false;
+    return true;
+}
+
+FitSession::FinalBrightness FitSession::final_brightness(int spp, const Film* full_size) const {
     FinalBrightness f;
     f.ks = outcome_.ks;
     const auto look = [&](const PinholeCamera& camera, const std::array<double, 3>& ks, int samples) {
@@ -412,22 +437,22 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp) const {
                                       });
         return display_statistics(film, outcome_.exposure);
     };
-    std::array<bool, 3> fitted{};
-    std::array<const FitRecord*, 3> at{};
-    f.from_fit = spread_at_final_size_;
-    for (int c = 0; c < 3; ++c) {
-        at[c] = final_record(c);
-        fitted[c] = at[c] && outcome_.brightness_slope[c] > 0.0;
-        f.from_fit = f.from_fit && (!fitted[c] || (at[c]->a_final_size[c] >= 0.0 &&
-                                                   at[c]->at_white[c] <= kForesightWhiteShare));
-    }
+    const BrightnessStart start = brightness_start();
+    const std::array<const FitRecord*, 3>& at = start.at;
+    const std::array<bool, 3>& fitted = start.fitted;
+    f.from_fit = brightness_from_fit();
     if (f.from_fit) {
         f.spp = spread_spp();
         for (int c = 0; c < 3; ++c)
             if (fitted[c]) f.size_change[c] = at[c]->a_final_size[c] - at[c]->a_render[c];
     } else {
+        if (full_size && full_size->fewest_samples() != spp)
+            throw Error("internal: the full-size render for the brightness check has other than its samples");
         f.spp = spp;
-        const DisplayStatistics at_full = look(final_camera_, f.ks, spp), at_fit = look(camera_, f.ks, spp);
+        f.from_final_render = full_size != nullptr;
+        const DisplayStatistics at_full = full_size ? display_statistics(*full_size, outcome_.exposure)
+                                                    : look(final_camera_, f.ks, spp),
+                                at_fit = look(camera_, f.ks, spp);
         if (at_full.pixels == 0 || at_fit.pixels == 0) return f;
         for (int c = 0; c < 3; ++c) f.size_change[c] = at_full.a[c] - at_fit.a[c];
     }

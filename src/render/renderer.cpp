@@ -46,6 +46,9 @@ struct Deadline {
 struct FilmsByReplicate {
     std::vector<Film*> films;  // replicate r goes to films[r · size / kReplicates]
     Film& of(int replicate) const { return *films[std::size_t(replicate) * films.size() / kReplicates]; }
+    // Where given, every sample also goes here less what the backdrop gave
+    // it: the object alone, as a transparent backdrop leaves it.
+    Film* object_alone = nullptr;
 };
 
 // A camera sample's film position in pixel (x, y), from its place u in
@@ -96,6 +99,7 @@ void add_pixel_samples(const Scene& scene, const Integrator& integrator,
             const Spectrum behind = backdrop(scene, settings.backdrop, ps, film_at[k].x, film_at[k].y);
             const int replicate = sample_replicate(sample);
             out.of(replicate).add_sample(x, y, ps.radiance + behind, ps.hit_object, hero, replicate);
+            if (out.object_alone) out.object_alone->add_sample(x, y, ps.radiance, ps.hit_object, hero, replicate);
         }
     }
 }
@@ -121,7 +125,10 @@ void add_backdrop_samples(const Scene& scene, const PinholeCamera& camera, const
             const auto sample = std::uint64_t(k);
             ++counts[std::size_t(sample_replicate(sample))][std::size_t(sampler.hero(sample))];
         }
-        for (int r = 0; r < kReplicates; ++r) out.of(r).add_samples(x, y, value, counts[std::size_t(r)], r);
+        for (int r = 0; r < kReplicates; ++r) {
+            out.of(r).add_samples(x, y, value, counts[std::size_t(r)], r);
+            if (out.object_alone) out.object_alone->add_samples(x, y, Spectrum(0.f), counts[std::size_t(r)], r);
+        }
         return;
     }
     for (int k = samples.first; k < samples.last; ++k) {
@@ -131,6 +138,7 @@ void add_backdrop_samples(const Scene& scene, const PinholeCamera& camera, const
         const int replicate = sample_replicate(sample);
         out.of(replicate).add_sample(x, y, backdrop(scene, settings.backdrop, ps, at.x, at.y), false,
                                      sampler.hero(sample), replicate);
+        if (out.object_alone) out.object_alone->add_sample(x, y, Spectrum(0.f), false, sampler.hero(sample), replicate);
     }
 }
 
@@ -244,61 +252,86 @@ Film render_pass(const Scene& scene, const PinholeCamera& camera, const RenderSe
     return film;
 }
 
-RenderResult render(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
-                    Progress* progress, const std::function<void(const PassRecord&)>& on_pass) {
+namespace {
+Integrator built_integrator(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings) {
     settings.validate();
-    // The clock includes the integrator's set-up (a stiff medium's sphere
-    // exit tables take seconds): error against time is the user's time.
+    return make_integrator(scene, camera, settings);
+}
+}  // namespace
+
+// The clock includes the integrator's set-up (a stiff medium's sphere exit
+// tables take seconds): error against time is the user's time.
+ProgressiveRender::ProgressiveRender(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings)
+    : scene_(scene), camera_(camera), settings_(settings), integrator_([&] {
+          const Stopwatch clock;
+          Integrator integrator = built_integrator(scene, camera, settings);
+          result_.setup_seconds = clock.seconds();
+          return integrator;
+      }()) {
+    result_.film = Film(camera.width(), camera.height());
+    result_.stopped_by = "spp";
+    result_.seconds = result_.setup_seconds;
+    result_.sphere_exit_bytes = integrator_.sphere_exit_bytes();
+}
+
+void ProgressiveRender::run_to(int spp, Progress* progress, const std::function<void(const PassRecord&)>& on_pass,
+                               Film* object_alone) {
+    if (object_alone && (object_alone->width() != camera_.width() || object_alone->height() != camera_.height()))
+        throw Error("internal: the film of the object alone is not the render's size");
     const Stopwatch clock;
-    const Integrator integrator = make_integrator(scene, camera, settings);
-    RenderResult result;
-    result.film = Film(camera.width(), camera.height());
-    result.stopped_by = "spp";
-    result.setup_seconds = clock.seconds();
-    result.sphere_exit_bytes = integrator.sphere_exit_bytes();
-    const PixelBounds whole{0, 0, camera.width(), camera.height()};
-    int done = 0;
-    for (int pass = 0; done < settings.spp; ++pass) {
-        const double error = done > 0 ? result.passes.back().estimated_error : 0.0;
-        const int n = next_pass_size(settings, done, clock.seconds(), error);
+    const double before = result_.seconds;  // the parts before this one
+    const auto elapsed = [&] { return before + clock.seconds(); };
+    const int last = std::min(spp, settings_.spp);
+    const PixelBounds whole{0, 0, camera_.width(), camera_.height()};
+    while (!stopped_ && done_ < last) {
+        const double error = done_ > 0 ? result_.passes.back().estimated_error : 0.0;
+        const int n = std::min(next_pass_size(settings_, done_, elapsed(), error), last - done_);
         // A time budget also stops a pass under way, the first included:
         // one pass can take far longer than the ones before it foretold (a
         // stiff voxel that few paths reach). Pixels the first pass did not
         // reach stay black and are counted.
         Deadline deadline;
-        if (settings.time_limit > 0.0) deadline = {&clock, settings.time_limit};
-        add_samples(scene, integrator, camera, settings, {done, done + n}, whole, {{&result.film}},
-                    result.counters, progress, deadline);
+        if (settings_.time_limit > 0.0) deadline = {&clock, settings_.time_limit - before};
+        FilmsByReplicate out{{&result_.film}};
+        out.object_alone = object_alone;
+        add_samples(scene_, integrator_, camera_, settings_, {done_, done_ + n}, whole, out, result_.counters,
+                    progress, deadline);
         const bool cut = deadline.passed();
-        done = cut ? result.film.fewest_samples() : done + n;
+        done_ = cut ? result_.film.fewest_samples() : done_ + n;
 
         PassRecord rec;
-        rec.pass = pass;
-        rec.spp = done;
-        rec.mean_spp = cut ? result.film.mean_samples() : double(done);
-        rec.seconds = clock.seconds();
-        rec.estimated_error = result.film.estimated_relative_error();
-        if (settings.reference) {
-            const ReferenceError e = compare_with_reference(result.film, *settings.reference);
+        rec.pass = int(result_.passes.size());
+        rec.spp = done_;
+        rec.mean_spp = cut ? result_.film.mean_samples() : double(done_);
+        rec.seconds = elapsed();
+        rec.estimated_error = result_.film.estimated_relative_error();
+        if (settings_.reference) {
+            const ReferenceError e = compare_with_reference(result_.film, *settings_.reference);
             rec.rmse = e.rmse;
             rec.rel_mse = e.rel_mse;
         }
-        result.passes.push_back(rec);
+        result_.passes.push_back(rec);
         if (on_pass) on_pass(rec);
 
-        if (settings.target_error > 0.0 && rec.estimated_error <= settings.target_error) {
-            result.stopped_by = "target error";
-            break;
-        }
-        if (cut || (settings.time_limit > 0.0 && rec.seconds >= settings.time_limit * 0.98)) {
-            result.stopped_by = "time";
-            break;
+        if (settings_.target_error > 0.0 && rec.estimated_error <= settings_.target_error) {
+            result_.stopped_by = "target error";
+            stopped_ = true;
+        } else if (cut || (settings_.time_limit > 0.0 && rec.seconds >= settings_.time_limit * 0.98)) {
+            result_.stopped_by = "time";
+            stopped_ = true;
         }
     }
-    result.seconds = clock.seconds();
-    for (int y = 0; y < camera.height(); ++y)
-        for (int x = 0; x < camera.width(); ++x) result.unsampled_pixels += result.film.samples(x, y) == 0 ? 1 : 0;
-    return result;
+    result_.seconds = elapsed();
+    result_.unsampled_pixels = 0;
+    for (int y = 0; y < camera_.height(); ++y)
+        for (int x = 0; x < camera_.width(); ++x) result_.unsampled_pixels += result_.film.samples(x, y) == 0 ? 1 : 0;
+}
+
+RenderResult render(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                    Progress* progress, const std::function<void(const PassRecord&)>& on_pass) {
+    ProgressiveRender r(scene, camera, settings);
+    r.run_to(settings.spp, progress, on_pass);
+    return std::move(r).take();
 }
 
 Film SplitFilms::merged() const {

@@ -7,6 +7,9 @@
 #include "jade/fit/fit_session.h"
 #include "jade/geometry/mesh.h"
 #include "jade/geometry/mesh_accel.h"
+#include "jade/core/error.h"
+#include "jade/render/media/grid.h"
+#include "jade/render/renderer.h"
 #include "support/fit_test_scene.h"
 
 #include <catch2/catch.hpp>
@@ -129,6 +132,37 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
         // above) of the photo.
         CHECK(std::abs(after[c]) < 0.4 + 0.6);
     }
+    CHECK_FALSE(check.from_final_render);
+
+    // Given the final render's first 64 samples (the volume at the fitted
+    // k_s through its own medium, before the environment, as the pipeline
+    // renders it), the object alone, the check reads A at full size from
+    // them instead of a render of its own: the same foresight, within the
+    // same margin.
+    MaterialVolume fitted = t.volume;
+    fitted.optics.ks = out.ks;
+    fitted.optics.contrast = contrast;
+    fitted.optics.density_scale = out.density_scale;
+    const MaterialVolumeMedium medium(fitted, fitted.cube);
+    Scene final_scene = t.scene;
+    final_scene.medium = &medium;
+    RenderSettings final_settings = settings;
+    final_settings.spp = 256;
+    REQUIRE_FALSE(final_settings.backdrop.transparent);
+    ProgressiveRender final_render(final_scene, PinholeCamera(t.camera), final_settings);
+    Film object_alone(t.camera.width, t.camera.height);
+    final_render.run_to(64, nullptr, nullptr, &object_alone);
+    const FitSession::FinalBrightness read = session.final_brightness(64, &object_alone);
+    CHECK(read.from_final_render);
+    CHECK_FALSE(read.from_fit);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": dA expected from the final render's first samples " << read.delta[c]
+                        << ", at 256 spp " << before[c]);
+        CHECK(read.delta[c] == Approx(before[c]).margin(0.6));
+    }
+    final_render.run_to(128);
+    CHECK_THROWS_AS(session.final_brightness(64, &final_render.result().film), Error);
+
     const bool foreseen_off = std::max({std::abs(check.delta[0]), std::abs(check.delta[1]), std::abs(check.delta[2])}) >= 0.4;
     CHECK((check.renders >= 1) == foreseen_off);
     CHECK(check.renders <= 3);

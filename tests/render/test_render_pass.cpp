@@ -94,6 +94,45 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
     SECTION("the progressive renderer's passes give the same film") {
         CHECK(identical(render(scene, camera, settings).film, whole));
     }
+    SECTION("a progressive render paused and carried on gives the same film and the same passes") {
+        const RenderResult once = render(scene, camera, settings);
+        ProgressiveRender paused(scene, camera, settings);
+        paused.run_to(9);
+        CHECK(paused.samples() == 9);
+        CHECK_FALSE(paused.finished());
+        CHECK(paused.result().film.fewest_samples() == 9);
+        CHECK(paused.result().passes.back().spp == 9);
+        paused.run_to(9);  // nothing left to do up to 9
+        CHECK(paused.result().film.fewest_samples() == 9);
+        paused.run_to(100);  // no further than the settings' 37
+        CHECK(paused.finished());
+        const RenderResult carried = std::move(paused).take();
+        CHECK(identical(carried.film, whole));
+        CHECK(identical(carried.film, once.film));
+        // 9 samples end a pass the doubling would not (1, 1, 2, 4, 8): the
+        // passes after it carry on doubling from 9.
+        std::vector<int> counts;
+        for (const PassRecord& p : carried.passes) counts.push_back(p.spp);
+        CHECK(counts == std::vector<int>{1, 2, 4, 8, 9, 18, 36, 37});
+        for (std::size_t i = 0; i < carried.passes.size(); ++i) {
+            CHECK(carried.passes[i].pass == int(i));
+            if (i > 0) CHECK(carried.passes[i].seconds >= carried.passes[i - 1].seconds);
+        }
+        CHECK(carried.seconds >= carried.passes.back().seconds);
+        CHECK(carried.stopped_by == "spp");
+    }
+    SECTION("a part's samples less the backdrop are the same samples before a transparent backdrop") {
+        // The sky is the backdrop here: edge pixels hold it, the object alone does not.
+        ProgressiveRender paused(scene, camera, settings);
+        Film object_alone(24, 20);
+        paused.run_to(9, nullptr, nullptr, &object_alone);
+        RenderSettings transparent = settings;
+        transparent.backdrop.transparent = true;
+        CHECK(identical(object_alone, render_pass(scene, camera, transparent, {0, 9}, all)));
+        CHECK_FALSE(identical(object_alone, render_pass(scene, camera, settings, {0, 9}, all)));
+        paused.run_to(37);
+        CHECK(identical(std::move(paused).take().film, whole));
+    }
     SECTION("a render in halves: merged, the same film; apart, replicates 0-1 and 2-3") {
         // 37 samples: turns of the heroes 0 … 11 and sample 36 (turn 12),
         // turn t in replicate t mod 4 (render/pixel_sampler.h): replicate 0

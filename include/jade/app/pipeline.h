@@ -54,6 +54,9 @@ struct PipelineOptions {
 // ΔA expected at those, and the fitting renders the steps took.
 struct BrightnessCheck {
     bool from_fit = false;  // A at full size from the fit's renders there (FitSession::FinalBrightness)
+    // from the final render's first `spp` samples (it carried on from them
+    // where k_s was kept), not from a render of the check's own
+    bool from_final_render = false;
     int spp = 0, renders = 0;
     double seconds = 0.0;
     std::array<double, 3> size_change{}, delta{}, ks_before{}, ks_after{}, expected{};

@@ -185,14 +185,29 @@ public:
         bool from_fit = false;             // the change of A from the fit's own renders at full size
         int spp = 0;                       // samples per pixel of the full-size renders it was taken from
         int renders = 0;                   // fitting renders the steps took
+        // A at full size read from the final render's first `spp` samples
+        // (full_size below), not from a render of the check's own.
+        bool from_final_render = false;
     };
-    FinalBrightness final_brightness(int spp) const;
+    // `full_size`, where the caller has it: the final render's first `spp`
+    // samples per pixel of the volume at the fit's outcome, the object
+    // alone (less the backdrop's share, as the fit's renders see it:
+    // ProgressiveRender::run_to), read as the render at full size instead of
+    // one of the check's own; the final render carries on from those
+    // samples where k_s stays. Its medium's majorant is the final render's,
+    // not the fit's shared one: the same A, other noise.
+    // Needed only where the change of A is not the fit's own:
+    // brightness_from_fit() false.
+    FinalBrightness final_brightness(int spp, const Film* full_size = nullptr) const;
+    bool brightness_from_fit() const;
 
 private:
     RenderResult fitting_render(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
     SplitFilms split_render(const PinholeCamera& camera, const std::array<double, 3>& ks,
                             const std::array<double, 3>& contrast, int spp);
     int spread_spp() const;
+    struct BrightnessStart;
+    BrightnessStart brightness_start() const;
     struct StepRenders;
     StepRenders step_renders(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
     FitRecord* rendered_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);

@@ -102,6 +102,41 @@ RenderResult render(const Scene& scene, const PinholeCamera& camera, const Rende
                     Progress* progress = nullptr,
                     const std::function<void(const PassRecord&)>& on_pass = nullptr);
 
+// The same render, able to pause: run_to(n) renders on until n samples per
+// pixel (or until the settings' own stop), and a later call carries on from
+// there. The integrator is built once, for settings.spp (its light guide's
+// size follows the whole render's samples). The samples are keyed by index
+// and each pixel's are added in index order, so a render paused and carried
+// on is bit-identical to render()'s; its passes and seconds count every
+// part, not the time between parts. What it serves: a look at the first
+// samples before the rest is worth making (the pipeline's brightness check
+// reads A at the final size from the final render's first quarter, and the
+// render carries on where the check keeps k_s). The scene must outlive it.
+class ProgressiveRender {
+public:
+    ProgressiveRender(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings);
+    // With `object_alone` (a film of the render's size), this part's
+    // samples go there too, less what the backdrop gave them: bit for bit
+    // the same samples with a transparent backdrop (the object alone, as
+    // the fit measures it; docs/design.md, "The backdrop").
+    void run_to(int spp, Progress* progress = nullptr,
+                const std::function<void(const PassRecord&)>& on_pass = nullptr, Film* object_alone = nullptr);
+    int samples() const { return done_; }
+    // The settings' sample count reached, or a time budget or target error met.
+    bool finished() const { return stopped_ || done_ >= settings_.spp; }
+    const RenderResult& result() const { return result_; }
+    RenderResult take() && { return std::move(result_); }
+
+private:
+    const Scene& scene_;
+    PinholeCamera camera_;
+    RenderSettings settings_;
+    Integrator integrator_;
+    RenderResult result_;
+    int done_ = 0;
+    bool stopped_ = false;
+};
+
 // A render of settings.spp samples per pixel (no time budget or target
 // error) kept as two independent halves: each pixel's replicates 0–1 and
 // 2–3 (render/pixel_sampler.h), equal in size to within a turn of the
