@@ -605,6 +605,40 @@ TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back
     }
 }
 
+TEST_CASE("pipeline: the brightness check reads the final render's first quarter, unless a budget could cut it",
+          "[cli][fit]") {
+    // The k_s-only fit renders nothing at the final size, so the check
+    // renders there: with 128 spp and no budget, the final render's first
+    // 64 samples, from which the final render carries on where k_s stays.
+    TempDir dir;
+    const std::string base = "--photo " + std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg" +
+                             " --mesh " + kCow + " --resolution 32 --width 48 --height 48 --fit-width 24 " +
+                             "--fit-spp 16 --fit bisect --fit-max-renders 4 --spp 128";
+    const Result r = run(dir, base + " --out " + dir.file("a"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    const std::string report = slurp(dir.file("a/report.json"));
+    CHECK(json_field(report, "A_full_size_from") == " \"final render\"");
+    CHECK(json_field(report, "stopped_by") == " \"spp\"");
+    const bool corrected = r.out.find("k_s corrected to") != std::string::npos;
+    CHECK_THAT(r.out, Catch::Contains("from the final render's first 64 spp"));
+    CHECK((r.out.find("its first 64 spp made during the brightness check") != std::string::npos) == !corrected);
+    // The final render's passes double on to 128 as one render's would:
+    // the pause at 64 ends a pass that doubling ends too.
+    const auto rows = csv_rows(dir.file("a/convergence.csv"));
+    std::vector<int> spp;
+    for (std::size_t i = 1; i < rows.size(); ++i) spp.push_back(std::stoi(rows[i].substr(rows[i].find(',') + 1)));
+    CHECK(spp == std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128});
+
+    // A time budget could stop the final render short of 64 samples: the
+    // check renders on its own.
+    const Result t = run(dir, base + " --time 600 --out " + dir.file("b"));
+    INFO(t.out << t.err);
+    REQUIRE(t.code == 0);
+    CHECK(json_field(slurp(dir.file("b/report.json")), "A_full_size_from") == " \"check renders\"");
+    CHECK_THAT(t.out, !Catch::Contains("made during the brightness check"));
+}
+
 TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly", "[cli][fit]") {
     TempDir dir;
     const std::string photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
