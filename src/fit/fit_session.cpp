@@ -446,8 +446,9 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp, const Film* fu
         for (int c = 0; c < 3; ++c)
             if (fitted[c]) f.size_change[c] = at[c]->a_final_size[c] - at[c]->a_render[c];
     } else {
-        if (full_size && full_size->fewest_samples() != spp)
-            throw Error("internal: the full-size render for the brightness check has other than its samples");
+        if (full_size && (full_size->fewest_samples() != spp || full_size->width() != final_camera_.width() ||
+                          full_size->height() != final_camera_.height()))
+            throw Error("internal: the full-size render for the brightness check has other than its samples or size");
         f.spp = spp;
         f.from_final_render = full_size != nullptr;
         const DisplayStatistics at_full = full_size ? display_statistics(*full_size, outcome_.exposure)

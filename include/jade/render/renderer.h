@@ -131,8 +131,8 @@ private:
     const Scene& scene_;
     PinholeCamera camera_;
     RenderSettings settings_;
+    RenderResult result_;  // before integrator_: its set-up's seconds are written there
     Integrator integrator_;
-    RenderResult result_;
     int done_ = 0;
     bool stopped_ = false;
 };
