@@ -119,6 +119,9 @@ TEST_CASE("pieces of a render merged are bit-identical to the whole render", "[r
             if (i > 0) CHECK(carried.passes[i].seconds >= carried.passes[i - 1].seconds);
         }
         CHECK(carried.seconds >= carried.passes.back().seconds);
+        // The integrator's set-up is counted once, in the render's seconds.
+        CHECK(carried.setup_seconds > 0.0);
+        CHECK(carried.passes.front().seconds >= carried.setup_seconds);
         CHECK(carried.stopped_by == "spp");
     }
     SECTION("a part's samples less the backdrop are the same samples before a transparent backdrop") {
