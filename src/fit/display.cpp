@@ -114,6 +114,26 @@ std::array<double, 3> extrapolated_brightness(const SplitFilms& render, float ex
     return a;
 }
 
+std::array<double, 3> noise_clipped_share(const SplitFilms& render, float exposure) {
+    const Film& a = render.first;
+    const Film& b = render.second;
+    std::array<std::size_t, 3> split{};
+    std::size_t pixels = 0;
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) {
+            const float cov_a = a.coverage(x, y), cov_b = b.coverage(x, y);
+            // The halves hold equally many samples: their mean coverage is the whole render's.
+            if (!is_object_pixel(0.5f * (cov_a + cov_b)) || !(cov_a > 0.f) || !(cov_b > 0.f)) continue;
+            ++pixels;
+            const Rgb8 la = display_levels(a.mean(x, y) * (exposure / cov_a));
+            const Rgb8 lb = display_levels(b.mean(x, y) * (exposure / cov_b));
+            for (int c = 0; c < 3; ++c) split[c] += (la[c] == 255) != (lb[c] == 255);
+        }
+    std::array<double, 3> share{};
+    for (int c = 0; c < 3; ++c) share[c] = pixels ? double(split[c]) / double(pixels) : 0.0;
+    return share;
+}
+
 double level_slope(double linear) {
     if (linear >= 1.0) return 0.0;
     const double h = 1e-3;

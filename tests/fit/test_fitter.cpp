@@ -236,6 +236,59 @@ TEST_CASE("A at the final size: near white, the clip's bias falls as 1/spp, the 
     CHECK(heavy[0] < -4.0 * heavy[1]);
 }
 
+TEST_CASE("noise-clipped share: the pixels whose clip at white one half of the samples decides", "[fitter]") {
+    // Pixels on a ramp of linear values from 0.3 to 3 (below, near and far
+    // above white), 8 samples in each half, each the pixel's value times an
+    // exponential draw of mean 1. All in one stratum, so that a half's mean
+    // is the plain mean: value × Gamma(8, 1/8). A half shows the pixel at 255
+    // where that mean reaches the level's edge w, with probability p =
+    // P(Gamma(8, 1) ≥ 8w/value) = Σ_{k<8} e^(−x) x^k / k!, x = 8w/value;
+    // the halves disagree with probability 2p(1 − p). The share must be that
+    // over the ramp, within four standard deviations of the pixels' count.
+    const int n = 96, per_half = 8;
+    const double low = 0.3, high = 3.0;
+    const double w = srgb_decode(254.5 / 255.0);
+    SplitFilms render{Film(n, n), Film(n, n)};
+    SplitMix64 rng(31);
+    double expected = 0.0, variance = 0.0;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const double value = low + (high - low) * (y * n + x) / double(n * n - 1);
+            for (int h = 0; h < 2; ++h)
+                for (int i = 0; i < per_half; ++i)
+                    (h == 0 ? render.first : render.second)
+                        .add_sample(x, y, Spectrum(float(value * -std::log(1.0 - rng.uniform()))), true, 0, 2 * h);
+            const double t = per_half * w / value;
+            // P(Gamma(8, 1) ≥ t): fewer than 8 events of a Poisson process of mean t.
+            double p = 0.0, term = std::exp(-t);
+            for (int k = 0; k < per_half; ++k) {
+                p += term;
+                term *= t / (k + 1);
+            }
+            const double q = 2.0 * p * (1.0 - p);
+            expected += q;
+            variance += q * (1.0 - q);
+        }
+    const double pixels = double(n) * n;
+    expected /= pixels;
+    const double sigma = std::sqrt(variance) / pixels;
+    const std::array<double, 3> share = noise_clipped_share(render, 1.f);
+    INFO("share " << share[0] << ", expected " << expected << " +- " << sigma);
+    CHECK(expected > 0.05);  // the ramp's pixels near white make a share to measure
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(share[c] - expected) < 4.0 * sigma);
+    // Far from white on either side no half disagrees: a film of 0.1 and one of 30.
+    for (const double value : {0.1, 30.0}) {
+        SplitFilms flat{Film(8, 8), Film(8, 8)};
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x)
+                for (int h = 0; h < 2; ++h)
+                    for (int i = 0; i < per_half; ++i)
+                        (h == 0 ? flat.first : flat.second)
+                            .add_sample(x, y, Spectrum(float(value * (0.75 + 0.5 * rng.uniform()))), true, 0, 2 * h);
+        CHECK(noise_clipped_share(flat, 1.f)[0] == 0.0);
+    }
+}
+
 TEST_CASE("the fitting exposure lies where every channel can reach the photo, and is always finite",
           "[fitter]") {
     // One-pixel films: linear value v shows as level round(255 srgb(e v)).

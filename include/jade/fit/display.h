@@ -67,6 +67,15 @@ DisplayStatistics display_statistics(const Film& film, float exposure, LumaHalve
 // means 0.35–0.5; docs/design.md, "The fit").
 std::array<double, 3> extrapolated_brightness(const SplitFilms& render, float exposure);
 
+// Per channel, the share of the object's pixels whose clip at white the
+// render's noise decides: one of its two independent halves shows the pixel
+// at level 255 and the other below it. A pixel far above white is at 255 in
+// both, one far below in neither. Near white, a rare bright sample's energy
+// beyond white is lost at the clip, a loss that falls slower than 1/spp, so
+// extrapolated_brightness reads such a render low (the brightness check's
+// rule, FitSession::brightness_from_fit).
+std::array<double, 3> noise_clipped_share(const SplitFilms& render, float exposure);
+
 // d(display level)/d(linear value) of the sRGB curve at `linear` (0 at and
 // beyond 1, where the level is clipped): the delta method's factor from a
 // linear pixel's noise to its level's.

@@ -94,6 +94,10 @@ struct FitRecord {
     // A at the final render's size, from --fit contrast's renders there
     // (extrapolated_brightness); -1 where none was made.
     std::array<double, 3> a_final_size{-1, -1, -1};
+    // The share of the object's pixels at the final size whose clip at white
+    // the noise decides (noise_clipped_share of the same renders as
+    // a_final_size); -1 where none was made.
+    std::array<double, 3> noise_clipped{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
     // Shares of the render's object pixels at display level 0 and 255 (a
     // render that clips has a brightness that is only a bound).
