@@ -168,6 +168,8 @@ void check_final_brightness(const PipelineOptions& o, const FitSession& session,
     check.size_change = f.size_change;
     check.expected = f.expected;
     check.renders = f.renders;
+    check.white_share = f.white_share;
+    check.noise_clipped = f.noise_clipped;
     check.ks_before = volume.optics.ks;
     check.ks_after = f.ks;
     volume.optics.ks = f.ks;

@@ -232,6 +232,7 @@ nlohmann::json final_render_json(const PipelineReport& in) {
 nlohmann::json brightness_check_json(const BrightnessCheck& b) {
     return {{"A_full_size_from", b.from_fit ? "fit renders" : b.from_final_render ? "final render" : "check renders"},
             {"spp", b.spp}, {"seconds", b.seconds}, {"A_size_change", b.size_change},
+            {"white_share", b.white_share}, {"near_white_by_noise", b.noise_clipped},
             {"delta_A", b.delta}, {"fitting_renders", b.renders},
             {"delta_A_expected", b.expected},
             {"ks_before", b.ks_before}, {"ks", b.ks_after}, {"corrected", b.corrected()}};

@@ -452,6 +452,11 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp, const Film* fu
     const std::array<const FitRecord*, 3>& at = start.at;
     const std::array<bool, 3>& fitted = start.fitted;
     f.from_fit = brightness_from_fit();
+    for (int c = 0; c < 3; ++c)
+        if (at[c]) {
+            f.white_share[c] = at[c]->at_white[c];
+            f.noise_clipped[c] = at[c]->noise_clipped[c];
+        }
     if (f.from_fit) {
         f.spp = spread_spp();
         for (int c = 0; c < 3; ++c)

@@ -569,6 +569,17 @@ std::string json_field(const std::string& json, const std::string& key) {
     return json.substr(colon + 1, end - colon - 1);
 }
 
+// The first n numbers of the array under `key` (report.json writes one a line).
+std::vector<double> json_numbers(const std::string& json, const std::string& key, int n) {
+    const auto at = json.find("\"" + key + "\": [");
+    if (at == std::string::npos) return {};
+    std::stringstream in(json.substr(json.find('[', at) + 1));
+    std::vector<double> v(std::size_t(n), 0.0);
+    char sep;
+    for (double& x : v) in >> x >> sep;
+    return v;
+}
+
 }  // namespace
 
 TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back", "[cli][fit]") {
@@ -619,6 +630,11 @@ TEST_CASE("pipeline: the brightness check reads the final render's first quarter
     REQUIRE(r.code == 0);
     const std::string report = slurp(dir.file("a/report.json"));
     CHECK(json_field(report, "A_full_size_from") == " \"final render\"");
+    // The fit rendered nothing at the final size: no share near white by its
+    // noise, and the share at 255 of its last render.
+    CHECK(json_numbers(report, "near_white_by_noise", 3) == std::vector<double>{-1, -1, -1});
+    for (const double share : json_numbers(report, "white_share", 3)) CHECK((share >= 0.0 && share <= 1.0));
+    CHECK(json_numbers(report, "white_share", 3).size() == 3);
     CHECK(json_field(report, "stopped_by") == " \"spp\"");
     const bool corrected = r.out.find("k_s corrected to") != std::string::npos;
     CHECK_THAT(r.out, Catch::Contains("from the final render's first 64 spp"));

@@ -60,6 +60,7 @@ struct BrightnessCheck {
     int spp = 0, renders = 0;
     double seconds = 0.0;
     std::array<double, 3> size_change{}, delta{}, ks_before{}, ks_after{}, expected{};
+    std::array<double, 3> white_share{}, noise_clipped{-1, -1, -1};  // FitSession::FinalBrightness's
     bool corrected() const { return ks_after != ks_before; }
 };
 

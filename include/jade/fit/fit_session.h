@@ -192,6 +192,12 @@ public:
         // A at full size read from the final render's first `spp` samples
         // (full_size below), not from a render of the check's own.
         bool from_final_render = false;
+        // What chose between the fit's renders and a full-size render, read
+        // on the fit's last render at the fitted k_s (brightness_from_fit):
+        // per channel the share of its object pixels at 255 and the share
+        // near white by the noise of its renders at the final size (-1
+        // where none was made).
+        std::array<double, 3> white_share{}, noise_clipped{-1, -1, -1};
     };
     // `full_size`, where the caller has it: the final render's first `spp`
     // samples per pixel of the volume at the fit's outcome, the object
