@@ -406,9 +406,10 @@ constexpr double kForesightWhiteShare = 0.1;
 // below white: on Marble01 in the vase 2–10 % of the fitting render's pixels
 // were at 255, but in 23–30 % of the final size's the halves disagreed, and
 // the final render ended 0.9 and 1.2 levels above the photo in red and
-// green, foreseen at −0.2 and +0.4. The demo photo's red, whose foresight
-// held (its highlights), read 0.04–0.11 in the vase and the bunny, Onyx010's
-// channels 0.03 at most (docs/design.md, "The fit").
+// green, foreseen at −0.2 and +0.4. The demo photo's red (its highlights)
+// read 0.04–0.11 in the vase and the bunny, where the fit's foresight keeps
+// the final render within the tolerance, Onyx010's channels 0.03 at most
+// (docs/design.md, "The fit").
 constexpr double kForesightNoiseClippedShare = 0.15;
 }  // namespace
 
