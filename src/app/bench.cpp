@@ -10,6 +10,7 @@
 #include "jade/geometry/mesh_accel.h"
 #include "jade/render/renderer.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/structure_estimate.h"
 #include "jade/core/random.h"
 #include "jade/core/timing.h"
 #include "jade/app/job.h"
@@ -67,6 +68,13 @@ int run_volume_benchmark(const VolumeBenchOptions& o) {
     std::printf("volume benchmark: %d^3 voxels, photo %s, %d threads, best of %d\n", o.resolution,
                 photo.path.c_str(), tbb::info::default_concurrency(), o.repeats);
     std::printf("%-28s %10s %14s %12s\n", "stage", "seconds", "Mvoxels/s", "peak RSS");
+
+    // The structure estimate (--structure photo, the default) before the
+    // noise it chooses; the rows below build the paper's fBm.
+    StructureEstimate estimate;
+    const double te = best_of(o.repeats, [&] { estimate = estimate_structure(photo, noise); });
+    std::printf("%-28s %10.3f %14s %12s   (%d candidate structures)\n", "structure estimate", te, "-",
+                format_megabytes(double(peak_rss_bytes())).c_str(), estimate.evaluations);
 
     MaterialVolume vol;
     for (MatchMode mode : {MatchMode::PerChannel, MatchMode::Joint}) {

@@ -8,8 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
-#include <optional>
+#include <cstring>
+#include <map>
+#include <tuple>
 
 namespace jade {
 
@@ -48,16 +49,23 @@ GrayImage matched_noise_slice(const NoiseParams& noise, int z, const std::vector
     std::vector<float> values(std::size_t(s) * s);
     fbm_slice(Fbm(noise), s, z, values.data());
     // Rank matching: the i-th smallest noise value takes the photo's luma of
-    // the same quantile, as colour matching does (§4.2).
-    std::vector<std::uint32_t> order(values.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return values[a] < values[b]; });
+    // the same quantile, as colour matching does (§4.2). The ranks come from
+    // one sort of (value, pixel) keys, a value's bits made to order as the
+    // value does: a third of the time of a sort through the values.
+    std::vector<std::uint64_t> order(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &values[i], sizeof bits);
+        bits = (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
+        order[i] = (std::uint64_t(bits) << 32) | std::uint64_t(i);
+    }
+    std::sort(order.begin(), order.end());
     GrayImage g;
     g.width = g.height = s;
     g.values.resize(values.size());
     const double scale = double(sorted_luma.size()) / double(values.size());
     for (std::size_t r = 0; r < order.size(); ++r) {
-        const std::uint32_t i = order[r];
+        const std::uint32_t i = std::uint32_t(order[r]);
         const int x = int(i % s), y = int(i / s);
         // Seen from +z with y up: row 0 shows the largest y.
         g.values[std::size_t(s - 1 - y) * s + x] = sorted_luma[std::size_t((r + 0.5) * scale)];
@@ -87,14 +95,17 @@ PhotoTexture photo_texture(const Photo& photo) {
 }
 
 // Two slices a quarter and three quarters deep, so that one slice's chance
-// pattern does not decide.
+// pattern does not decide; made in parallel, summed in their order.
 StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
     NoiseParams at = noise;
     at.resolution = std::min(noise.resolution, kEstimateResolution);
+    const int depths[2] = {at.resolution / 4, 3 * at.resolution / 4};
+    TextureSpectrum spectra[2];
+    tbb::parallel_for(0, 2, [&](int i) {
+        spectra[i] = texture_spectrum(matched_noise_slice(at, depths[i], photo.sorted_luma), double(at.resolution));
+    });
     StructureFit fit{noise, 0.0, 0.0, 0.0};
-    for (int z : {at.resolution / 4, 3 * at.resolution / 4}) {
-        const TextureSpectrum sp =
-            texture_spectrum(matched_noise_slice(at, z, photo.sorted_luma), double(at.resolution));
+    for (const TextureSpectrum& sp : spectra) {
         fit.distance += 0.5 * structure_distance(sp, photo.spectrum);
         fit.strength += 0.5 * sp.strength;
         fit.coherence += 0.5 * sp.coherence;
@@ -102,6 +113,46 @@ StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
     }
     return fit;
 }
+
+// Every parameter a slice depends on, as one ordered key.
+auto noise_key(const NoiseParams& p) {
+    return std::make_tuple(p.resolution, p.octaves, p.k, p.seed, p.frequency, p.stretch, p.angle, p.bands, p.warp,
+                           p.veins, p.vein_frequency, p.vein_width, p.layers);
+}
+
+// The evaluations of one estimate, each made once: coordinate descent meets
+// the same parameters again (every sweep holds the point it starts from, the
+// last round repeats the one before where nothing moved, and the three
+// starts' paths cross), a quarter to a third of the evaluations on the
+// photos measured (docs/design.md, "Structure").
+class Evaluations {
+public:
+    explicit Evaluations(const PhotoTexture& texture) : texture_(texture) {}
+    const PhotoTexture& texture() const { return texture_; }
+    // The fits of `candidates`, in their order; those not seen before are
+    // evaluated in parallel.
+    std::vector<StructureFit> of(const std::vector<NoiseParams>& candidates) {
+        std::vector<NoiseParams> missing;
+        for (const NoiseParams& p : candidates)
+            if (!seen_.count(noise_key(p)) &&
+                std::none_of(missing.begin(), missing.end(),
+                             [&](const NoiseParams& m) { return noise_key(m) == noise_key(p); }))
+                missing.push_back(p);
+        std::vector<StructureFit> fits(missing.size());
+        tbb::parallel_for(std::size_t(0), missing.size(),
+                          [&](std::size_t i) { fits[i] = evaluate(missing[i], texture_); });
+        for (const StructureFit& f : fits) seen_.emplace(noise_key(f.noise), f);
+        std::vector<StructureFit> out;
+        for (const NoiseParams& p : candidates) out.push_back(seen_.at(noise_key(p)));
+        return out;
+    }
+    StructureFit of(const NoiseParams& p) { return of(std::vector<NoiseParams>{p}).front(); }
+    int count() const { return int(seen_.size()); }
+
+private:
+    const PhotoTexture& texture_;
+    std::map<decltype(noise_key(NoiseParams{})), StructureFit> seen_;
+};
 
 // What the search minimises: the spectra's distance, and the differences in
 // how strongly oriented the two are, globally and locally (the radial
@@ -113,7 +164,8 @@ double objective(const StructureFit& f, const TextureSpectrum& photo) {
 // Coordinate descent from `start`: each parameter over its grid, the others
 // held, until a round changes nothing. One parameter's candidates run in
 // parallel.
-StructureFit descend(const NoiseParams& start, const PhotoTexture& texture) {
+StructureFit descend(const NoiseParams& start, Evaluations& evaluations) {
+    const PhotoTexture& texture = evaluations.texture();
     static const std::vector<double> frequencies{0.5, 0.71, 1, 1.41, 2, 2.83, 4, 5.66, 8};
     static const std::vector<double> ratios{0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85};
     static const std::vector<double> stretches{1, 1.41, 2, 2.83, 4, 5.66, 8, 11.3, 16};
@@ -121,20 +173,19 @@ StructureFit descend(const NoiseParams& start, const PhotoTexture& texture) {
     static const std::vector<double> warps{0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1, 1.4, 2, 2.8, 4};
     static const std::vector<double> vein_frequencies{1, 1.41, 2, 2.83, 4, 5.66};
     static const std::vector<double> vein_widths{0.0025, 0.005, 0.01, 0.02};
-    StructureFit best = evaluate(start, texture);
+    StructureFit best = evaluations.of(start);
     auto sweep = [&](const std::vector<double>& grid, double NoiseParams::*field) {
-        std::vector<std::optional<StructureFit>> fits(grid.size());
-        tbb::parallel_for(std::size_t(0), grid.size(), [&](std::size_t i) {
+        std::vector<NoiseParams> candidates;
+        for (double value : grid) {
             NoiseParams p = best.noise;
-            p.*field = grid[i];
+            p.*field = value;
             // Layers need bands: the family stays what it started as.
-            if (p.layers && !(p.bands > 0.0)) return;
-            fits[i] = evaluate(p, texture);
-        });
+            if (!(p.layers && !(p.bands > 0.0))) candidates.push_back(p);
+        }
         bool changed = false;
-        for (const std::optional<StructureFit>& f : fits)
-            if (f && objective(*f, texture.spectrum) < objective(best, texture.spectrum) - 1e-9) {
-                best = *f;
+        for (const StructureFit& f : evaluations.of(candidates))
+            if (objective(f, texture.spectrum) < objective(best, texture.spectrum) - 1e-9) {
+                best = f;
                 changed = true;
             }
         return changed;
@@ -163,12 +214,13 @@ StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo) {
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base) {
     const Stopwatch clock;
     const PhotoTexture texture = photo_texture(photo);
+    Evaluations evaluations(texture);
     StructureEstimate out;
     out.photo = texture.spectrum;
     NoiseParams paper = base;
     paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0, paper.veins = false;
     paper.layers = false;
-    out.paper = evaluate(paper, texture);
+    out.paper = evaluations.of(paper);
 
     // Three starts, the paper's fBm, a marble and folded layers, because the
     // families' optima are far apart and coordinate descent would not cross
@@ -182,14 +234,15 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
     NoiseParams layered = fbm;
     layered.layers = true, layered.bands = 2.0, layered.warp = 1.0, layered.k = 0.85;
-    StructureFit best_fit = base.veins ? evaluate(fbm, texture) : out.paper;
+    StructureFit best_fit = base.veins ? evaluations.of(fbm) : out.paper;
     for (NoiseParams start : {fbm, marble, layered}) {
         start.angle = texture.spectrum.orientation;
-        const StructureFit fit = descend(start, texture);
+        const StructureFit fit = descend(start, evaluations);
         if (objective(fit, texture.spectrum) < objective(best_fit, texture.spectrum)) best_fit = fit;
     }
     out.chosen = best_fit;
     out.seconds = clock.seconds();
+    out.evaluations = evaluations.count();
     return out;
 }
 

@@ -43,9 +43,17 @@ TEST_CASE("structure estimate: an oriented fBm's frequency, stretch and angle ar
     NoiseParams base;
     base.resolution = 128;
     base.seed = 1;  // the estimate never sees the photo's noise
-    const StructureEstimate e = estimate_structure(photo_of(truth), base);
+    const Photo photo = photo_of(truth);
+    const StructureEstimate e = estimate_structure(photo, base);
     const NoiseParams& got = e.chosen.noise;
     CAPTURE(got.frequency, got.k, got.stretch, got.angle, got.bands, e.chosen.distance, e.paper.distance);
+    // Each candidate is evaluated once and its fit kept: the kept fit of
+    // the chosen parameters is what evaluating them afresh gives, bit for bit.
+    const StructureFit again = evaluate_structure(got, photo);
+    REQUIRE(again.distance == e.chosen.distance);
+    REQUIRE(again.strength == e.chosen.strength);
+    REQUIRE(again.coherence == e.chosen.coherence);
+    REQUIRE(e.evaluations > 0);
     REQUIRE(got.bands == 0.0);
     REQUIRE(std::abs(got.angle - truth.angle) < 8.0);
     REQUIRE(got.stretch >= truth.stretch / 2.0);

@@ -47,6 +47,7 @@ struct StructureEstimate {
     StructureFit paper;    // the paper's fBm (f_0 = 1, r = 1, no bands, same k and seed), for comparison
     TextureSpectrum photo;
     double seconds = 0.0;
+    int evaluations = 0;   // candidate structures evaluated (two matched slices each), repeats not counted
 };
 // Searches f_0, k, r, the bands b and their warp a (coordinate descent over fixed grids, from the
 // paper's fBm, a marble and folded layers, NoiseParams::layers) with the angle taken from the
