@@ -210,17 +210,41 @@ double mean_level(const ObjectChannel& f, double scale) {
     return n ? sum / double(n) : 0.0;
 }
 
+// The mean display level of `scale` × the inside values, and its
+// derivative with respect to log(scale).
+LevelSlope mean_level_slope(const ObjectChannel& f, double scale) {
+    LevelSlope sum{0.0, 0.0};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < f.inside.size(); ++i)
+        if (f.inside[i]) {
+            const LevelSlope l = continuous_level_slope(scale * f.value[i]);
+            sum.level += l.level, sum.slope += l.slope, ++n;
+        }
+    return n ? LevelSlope{sum.level / double(n), sum.slope / double(n)} : LevelSlope{0.0, 0.0};
+}
+
 // The scale of the inside values that gives them the mean display level
-// `target`. The mean level grows with the scale: bisection on its logarithm,
-// to a relative 10^-9 (35 halvings of 10^-6..10^6; each is a pass over the
-// pixels, an sRGB encoding apiece, and the fit flattens 21 images a step).
+// `target`, to a relative 10^-9, within 10^-6..10^6. The mean level grows
+// with the scale: Newton's method on its logarithm t (the level's slope in t
+// comes with the level from the same pass over the pixels), inside a
+// bracket every pass narrows, bisecting where a step would leave it or the
+// slope is 0 (every pixel clipped). Each pass is an sRGB encoding per pixel
+// and the fit flattens 21 images per block size a step: 5–8 passes on the
+// fitter's tests where bisection alone took 35 (seconds a step on one core
+// at 512²), 21–38 on the few whose target lies near the range's edge.
 double scale_to_mean_level(const ObjectChannel& f, double target) {
-    double lo = std::log(1e-6), hi = std::log(1e6);
-    for (int i = 0; i < 35; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (mean_level(f, std::exp(mid)) < target ? lo : hi) = mid;
+    constexpr double kLogTolerance = 1e-9;
+    double lo = std::log(1e-6), hi = std::log(1e6), t = 0.0;
+    while (hi - lo > kLogTolerance) {
+        const LevelSlope m = mean_level_slope(f, std::exp(t));
+        (m.level < target ? lo : hi) = t;
+        double next = m.slope > 0.0 ? t + (target - m.level) / m.slope : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        const bool converged = std::abs(next - t) < kLogTolerance;
+        t = next;
+        if (converged) break;
     }
-    return std::exp(0.5 * (lo + hi));
+    return std::exp(t);
 }
 
 // The render flattened by its shading, pixel by pixel: r / h, scaled so

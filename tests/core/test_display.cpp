@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 using namespace jade;
 
 TEST_CASE("sRGB encoding follows IEC 61966-2-1 and inverts exactly", "[display]") {
@@ -27,4 +29,24 @@ TEST_CASE("display levels round the encoded value, and the object rule is one th
     CHECK(level_of_encoded(1.2) == 255);
     CHECK(is_object_pixel(0.5f));
     CHECK_FALSE(is_object_pixel(0.49f));
+}
+
+TEST_CASE("a level's slope in the log of the radiance is the curve's, and 0 where the clamp holds it",
+          "[display]") {
+    // Against a central difference of the level in log(x), on both pieces
+    // of the curve (the difference's error is O(h²) · the third derivative).
+    const double h = 1e-5;
+    for (double x : {0.0005, 0.002, 0.01, 0.2, 0.5, 0.9}) {
+        const LevelSlope s = continuous_level_slope(x);
+        CHECK(s.level == continuous_level(x));
+        const double numeric =
+            (continuous_level(x * std::exp(h)) - continuous_level(x * std::exp(-h))) / (2.0 * h);
+        CHECK(s.slope == Approx(numeric).epsilon(1e-6));
+    }
+    // The power piece in closed form: 255 · 1.055 / 2.4 · 0.5^(1/2.4) at mid grey.
+    CHECK(continuous_level_slope(0.5).slope == Approx(255.0 * 1.055 / 2.4 * std::pow(0.5, 1.0 / 2.4)));
+    CHECK(continuous_level_slope(0.0).slope == 0.0);
+    CHECK(continuous_level_slope(1.0).slope == 0.0);
+    CHECK(continuous_level_slope(3.0).slope == 0.0);
+    CHECK(continuous_level_slope(3.0).level == Approx(255.0));
 }

@@ -19,6 +19,12 @@ std::uint8_t display_level(double linear);
 // The same level before rounding (statistics over many pixels: means and
 // spreads of levels without the rounding's steps).
 double continuous_level(double linear);
+// The same level and its derivative with respect to log(linear): how fast
+// the level rises as the radiance is scaled (0 where the clamp holds it).
+struct LevelSlope {
+    double level, slope;
+};
+LevelSlope continuous_level_slope(double linear);
 // An already-encoded value in [0, 1] (an 8-bit or 16-bit file's) → level.
 std::uint8_t level_of_encoded(double encoded);
 
