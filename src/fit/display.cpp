@@ -234,8 +234,10 @@ LevelSlope mean_level_slope(const ObjectChannel& f, double scale) {
 // at 512²), 21–38 on the few whose target lies near the range's edge.
 double scale_to_mean_level(const ObjectChannel& f, double target) {
     constexpr double kLogTolerance = 1e-9;
+    // Far more than bisection alone needs (35): a bound, not a budget.
+    constexpr int kMaxPasses = 200;
     double lo = std::log(1e-6), hi = std::log(1e6), t = 0.0;
-    while (hi - lo > kLogTolerance) {
+    for (int pass = 0; pass < kMaxPasses && hi - lo > kLogTolerance; ++pass) {
         const LevelSlope m = mean_level_slope(f, std::exp(t));
         (m.level < target ? lo : hi) = t;
         double next = m.slope > 0.0 ? t + (target - m.level) / m.slope : 0.5 * (lo + hi);
