@@ -93,6 +93,10 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
     cmd.add_option("--warp", o.noise.warp, "How far the fBm displaces the layers, in cube sides (--structure fbm)")
         ->capture_default_str();
+    cmd.add_option("--fold", o.noise.fold,
+                   "How fast the warp varies across the layers against along them, 0 to 1: 1 isotropic (folds "
+                   "may overturn into rings), 0 every layer folds alike (--structure fbm, with --bands)")
+        ->capture_default_str();
     cmd.add_option("--veins", o.noise.veins,
                    "Thin veins through the structure, where a second fBm is near zero: they get the photo's "
                    "darkest colours, in curves that branch and join as marble's do (with --structure photo "
@@ -164,9 +168,11 @@ int run_volume(VolumeOptions& o) {
 
     if (structure == jade::StructureMode::Photo)
         std::printf("structure from the photo in %.2f s: slice-to-photo structure distance %.3f (the paper's "
-                    "fBm: %.3f); orientation strength %.2f, coherence %.2f (photo: %.2f, %.2f)\n",
+                    "fBm: %.3f); orientation strength %.2f, coherence %.2f, "
+                    "orientation defects %.3f (photo: %.2f, %.2f, %.3f)\n",
                     estimate.seconds, estimate.chosen.distance, estimate.paper.distance, estimate.chosen.strength,
-                    estimate.chosen.coherence, estimate.photo.strength, estimate.photo.coherence);
+                    estimate.chosen.coherence, estimate.chosen.defects, estimate.photo.strength,
+                    estimate.photo.coherence, estimate.photo.defects);
     if (!o.preview.empty()) {
         const jade::RgbImage8 slice = jade::slice_image(volume, volume.resolution / 2);
         jade::write_image_u8(o.preview, slice.width, slice.height, 3, slice.pixels);

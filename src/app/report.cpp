@@ -111,6 +111,7 @@ nlohmann::json structure_json(const PipelineResult& res) {
             {"photo_strength", e.photo.strength}, {"photo_coherence", e.photo.coherence},
             {"distance", e.chosen.distance},      {"strength", e.chosen.strength},
             {"coherence", e.chosen.coherence},    {"paper_fbm_distance", e.paper.distance},
+            {"defects", e.chosen.defects},        {"photo_defects", e.photo.defects},
             {"paper_fbm_strength", e.paper.strength}};
 }
 
@@ -139,9 +140,11 @@ nlohmann::json appearance_json(const Appearance& look) {
             {"photo_orientation", look.photo.orientation},
             {"photo_strength", look.photo.strength},
             {"photo_coherence", look.photo.coherence},
+            {"photo_defects", look.photo.defects},
             {"render_orientation", look.render.orientation},
             {"render_strength", look.render.strength},
             {"render_coherence", look.render.coherence},
+            {"render_defects", look.render.defects},
             {"render_square_pixels", look.render.square},
             {"photo_spectrum", spectrum_json(look.photo)},
             {"render_spectrum", spectrum_json(look.render)}};
@@ -160,6 +163,7 @@ nlohmann::json volume_json(const PipelineOptions& o, const MaterialVolume& volum
             {"k", volume.noise.k}, {"seed", volume.noise.seed}, {"structure", to_string(volume.structure)},
             {"frequency", volume.noise.frequency}, {"stretch", volume.noise.stretch},
             {"angle", volume.noise.angle}, {"bands", volume.noise.bands}, {"warp", volume.noise.warp},
+            {"fold", volume.noise.fold},
             {"veins", volume.noise.veins}, {"vein_frequency", volume.noise.vein_frequency},
             {"vein_width", volume.noise.vein_width}, {"layers", volume.noise.layers},
             {"match", to_string(volume.match)},

@@ -258,6 +258,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:angle", openvdb::DoubleMetadata(v.noise.angle));
     meta.insertMeta("jade:bands", openvdb::DoubleMetadata(v.noise.bands));
     meta.insertMeta("jade:warp", openvdb::DoubleMetadata(v.noise.warp));
+    meta.insertMeta("jade:fold", openvdb::DoubleMetadata(v.noise.fold));
     meta.insertMeta("jade:veins", openvdb::Int32Metadata(v.noise.veins ? 1 : 0));
     meta.insertMeta("jade:vein_frequency", openvdb::DoubleMetadata(v.noise.vein_frequency));
     meta.insertMeta("jade:vein_width", openvdb::DoubleMetadata(v.noise.vein_width));
@@ -419,6 +420,8 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:angle")) v.noise.angle = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:bands")) v.noise.bands = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:warp")) v.noise.warp = m->value();
+    // Files from before the fold have its isotropic warp, the default.
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:fold")) v.noise.fold = m->value();
     // Files from before the veins have none.
     if (meta.getMetadata<openvdb::Int32Metadata>("jade:veins") ||
         meta.getMetadata<openvdb::Int64Metadata>("jade:veins")) {

@@ -22,6 +22,11 @@ int NoiseParams::octave_count() const {
 
 std::string NoiseParams::family_suffix() const {
     std::string s = layers ? ", layers" : "";
+    if (bands > 0.0 && fold != 1.0) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, ", fold %.2f", fold);
+        s += buf;
+    }
     if (veins) {
         char buf[96];
         std::snprintf(buf, sizeof buf, ", veins (frequency %.2f, width %.4g)", vein_frequency, vein_width);
@@ -49,6 +54,9 @@ void NoiseParams::validate() const {
         throw Error("--bands must be between 0 (none) and 256 per side, got " + std::to_string(bands));
     if (!(warp >= 0.0 && warp <= 256.0))
         throw Error("--warp must be between 0 and 256 cube sides, got " + std::to_string(warp));
+    if (!(fold >= 0.0 && fold <= 1.0))
+        throw Error("--fold must be between 0 (every layer folds alike) and 1 (isotropic warp), got " +
+                    std::to_string(fold));
     if (!(vein_frequency >= 0.125 && vein_frequency <= 64.0))
         throw Error("--vein-frequency must be between 0.125 and 64 cycles per side, got " +
                     std::to_string(vein_frequency));
@@ -157,6 +165,7 @@ Fbm::Fbm(const NoiseParams& params)
     along_y_ = std::sin(radians(params.angle));
     inv_stretch_ = 1.0 / params.stretch;
     bands_per_voxel_ = params.bands / params.resolution;
+    fold_ = params.bands > 0.0 ? params.fold : 1.0;
     veins_ = params.veins;
     layers_ = params.layers;
     if (layers_) {
@@ -236,10 +245,13 @@ double Fbm::operator()(double px, double py, double pz) const {
     const double x = (along_x_ * px + along_y_ * py) * inv_stretch_;
     const double y = -along_y_ * px + along_x_ * py;
     const double z = pz * inv_stretch_;
+    // The noise's coordinate across the layers; with bands the warp reads it
+    // at ε·w (at ε = 1 the product is exact: the isotropic warp as before).
+    const double y_noise = fold_ * y;
     double sum = 0.0, fr = base_frequency_, amp = k_;
     for (int i = 0; i < octaves_; ++i) {
         const double* o = &offset_[3 * std::size_t(i)];
-        sum += amp * simplex_(x * fr + o[0], y * fr + o[1], z * fr + o[2]);
+        sum += amp * simplex_(x * fr + o[0], y_noise * fr + o[1], z * fr + o[2]);
         fr *= 2.0;
         amp *= k_;
     }

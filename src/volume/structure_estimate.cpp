@@ -104,11 +104,12 @@ StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
     tbb::parallel_for(0, 2, [&](int i) {
         spectra[i] = texture_spectrum(matched_noise_slice(at, depths[i], photo.sorted_luma), double(at.resolution));
     });
-    StructureFit fit{noise, 0.0, 0.0, 0.0};
+    StructureFit fit{noise, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (const TextureSpectrum& sp : spectra) {
         fit.distance += 0.5 * structure_distance(sp, photo.spectrum);
         fit.strength += 0.5 * sp.strength;
         fit.coherence += 0.5 * sp.coherence;
+        fit.defects += 0.5 * sp.defects;
         fit.orientation = sp.orientation;
     }
     return fit;
@@ -117,7 +118,7 @@ StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
 // Every parameter a slice depends on, as one ordered key.
 auto noise_key(const NoiseParams& p) {
     return std::make_tuple(p.resolution, p.octaves, p.k, p.seed, p.frequency, p.stretch, p.angle, p.bands, p.warp,
-                           p.veins, p.vein_frequency, p.vein_width, p.layers);
+                           p.veins, p.vein_frequency, p.vein_width, p.layers, p.fold);
 }
 
 // The evaluations of one estimate, each made once: coordinate descent meets
@@ -154,23 +155,49 @@ private:
     std::map<decltype(noise_key(NoiseParams{})), StructureFit> seen_;
 };
 
-// What the search minimises: the spectra's distance, and the differences in
+// What the search minimises: the spectra's distance and the differences in
 // how strongly oriented the two are, globally and locally (the radial
-// spectrum sees neither: a vein and grain of the same scale have one spectrum).
-double objective(const StructureFit& f, const TextureSpectrum& photo) {
-    return f.distance + std::abs(f.strength - photo.strength) + std::abs(f.coherence - photo.coherence);
+// spectrum sees neither: a vein and grain of the same scale have one
+// spectrum); then, with `Measures::WithDefects`, also how far apart their
+// orientation defects are, in decades like the spectra's distance, which
+// long folded layers and the rings of overturned folds have in very
+// different numbers where the other measures hardly differ (docs/design.md,
+// "Folds and their defects").
+enum class Measures { Spectral, WithDefects };
+double objective(const StructureFit& f, const TextureSpectrum& photo, Measures measures) {
+    const double spectral =
+        f.distance + std::abs(f.strength - photo.strength) + std::abs(f.coherence - photo.coherence);
+    if (measures == Measures::Spectral) return spectral;
+    // Nine cells of the 30 × 30 between blocks a 32nd of a side wide: fewer
+    // defects than that differ by chance (a count of nine is uncertain by a
+    // third), and their ratio would make the search's landscape rugged.
+    constexpr double kDefectsFloor = 0.01;
+    // The count tells structures apart by their topology, by factors of
+    // several (the demo photo's folds against its ringed estimate: 4.8);
+    // within a factor of √2 it moves with the grain's detail (an fBm's k)
+    // and is not counted, so it does not tip families that agree on it.
+    const double kDefectsTolerance = 0.5 * std::log10(2.0);
+    const double decades =
+        std::abs(std::log10(std::max(f.defects, kDefectsFloor) / std::max(photo.defects, kDefectsFloor)));
+    return spectral + std::max(0.0, decades - kDefectsTolerance);
 }
 
 // Coordinate descent from `start`: each parameter over its grid, the others
 // held, until a round changes nothing. One parameter's candidates run in
-// parallel.
-StructureFit descend(const NoiseParams& start, Evaluations& evaluations) {
+// parallel. On the spectral measures every parameter but the fold; with the
+// defects, the fold and the warp it shapes: the defects are there to choose
+// how the layers fold, and over every parameter their ratio would wall a
+// start into the first basin whose count happens to match, or tip between
+// families that the spectral measures rank (docs/design.md, "Folds and
+// their defects").
+StructureFit descend(const NoiseParams& start, Evaluations& evaluations, Measures measures) {
     const PhotoTexture& texture = evaluations.texture();
     static const std::vector<double> frequencies{0.5, 0.71, 1, 1.41, 2, 2.83, 4, 5.66, 8};
     static const std::vector<double> ratios{0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85};
     static const std::vector<double> stretches{1, 1.41, 2, 2.83, 4, 5.66, 8, 11.3, 16};
     static const std::vector<double> bands{0, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24};
     static const std::vector<double> warps{0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1, 1.4, 2, 2.8, 4};
+    static const std::vector<double> folds{0, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1};
     static const std::vector<double> vein_frequencies{1, 1.41, 2, 2.83, 4, 5.66};
     static const std::vector<double> vein_widths{0.0025, 0.005, 0.01, 0.02};
     StructureFit best = evaluations.of(start);
@@ -184,21 +211,27 @@ StructureFit descend(const NoiseParams& start, Evaluations& evaluations) {
         }
         bool changed = false;
         for (const StructureFit& f : evaluations.of(candidates))
-            if (objective(f, texture.spectrum) < objective(best, texture.spectrum) - 1e-9) {
+            if (objective(f, texture.spectrum, measures) < objective(best, texture.spectrum, measures) - 1e-9) {
                 best = f;
                 changed = true;
             }
         return changed;
     };
     for (int round = 0; round < 4; ++round) {
-        bool changed = sweep(frequencies, &NoiseParams::frequency);
-        changed = sweep(ratios, &NoiseParams::k) || changed;
-        changed = sweep(stretches, &NoiseParams::stretch) || changed;
-        changed = sweep(bands, &NoiseParams::bands) || changed;
-        if (best.noise.bands > 0.0) changed = sweep(warps, &NoiseParams::warp) || changed;
-        if (best.noise.veins) {
-            changed = sweep(vein_frequencies, &NoiseParams::vein_frequency) || changed;
-            changed = sweep(vein_widths, &NoiseParams::vein_width) || changed;
+        bool changed = false;
+        if (measures == Measures::Spectral) {
+            changed = sweep(frequencies, &NoiseParams::frequency);
+            changed = sweep(ratios, &NoiseParams::k) || changed;
+            changed = sweep(stretches, &NoiseParams::stretch) || changed;
+            changed = sweep(bands, &NoiseParams::bands) || changed;
+            if (best.noise.bands > 0.0) changed = sweep(warps, &NoiseParams::warp) || changed;
+            if (best.noise.veins) {
+                changed = sweep(vein_frequencies, &NoiseParams::vein_frequency) || changed;
+                changed = sweep(vein_widths, &NoiseParams::vein_width) || changed;
+            }
+        } else if (best.noise.bands > 0.0) {
+            changed = sweep(folds, &NoiseParams::fold);
+            changed = sweep(warps, &NoiseParams::warp) || changed;
         }
         if (!changed) break;
     }
@@ -235,10 +268,15 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     NoiseParams layered = fbm;
     layered.layers = true, layered.bands = 2.0, layered.warp = 1.0, layered.k = 0.85;
     StructureFit best_fit = base.veins ? evaluations.of(fbm) : out.paper;
+    // Each start descends on the spectral measures, then folds its layers
+    // with the defects too; the starts are compared on all the measures.
     for (NoiseParams start : {fbm, marble, layered}) {
         start.angle = texture.spectrum.orientation;
-        const StructureFit fit = descend(start, evaluations);
-        if (objective(fit, texture.spectrum) < objective(best_fit, texture.spectrum)) best_fit = fit;
+        const StructureFit spectral = descend(start, evaluations, Measures::Spectral);
+        const StructureFit fit = descend(spectral.noise, evaluations, Measures::WithDefects);
+        if (objective(fit, texture.spectrum, Measures::WithDefects) <
+            objective(best_fit, texture.spectrum, Measures::WithDefects))
+            best_fit = fit;
     }
     out.chosen = best_fit;
     out.seconds = clock.seconds();

@@ -81,13 +81,43 @@ cv::Mat cross_periodogram(const GrayImage& a, const GrayImage& b, const std::arr
     return power;
 }
 
-// The gradient structure tensor summed over blocks: Σ_blocks (λ1 − λ2) over
-// Σ_blocks (λ1 + λ2), with central differences. Of two images, the tensor
-// of their gradients' products (∇a ∇bᵀ, symmetrised): what their noise does
-// not share averages out of each block's tensor, though not wholly out of
-// its eigenvalues' difference (a square root per block).
-double local_coherence(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
-                       double pixels_per_side) {
+struct Tensor {
+    double xx = 0.0, xy = 0.0, yy = 0.0;
+};
+
+// TextureSpectrum::defects of a grid of blocks' tensors. The orientation is
+// the tensor's doubled angle, so that a loop's turns count modulo a whole
+// turn of the orientation; half a turn of it is a whole turn of the doubled
+// angle.
+double orientation_defects(const std::vector<Tensor>& grid, int blocks) {
+    if (blocks < 2) return 0.0;
+    std::vector<double> doubled(grid.size());
+    for (std::size_t i = 0; i < grid.size(); ++i) doubled[i] = std::atan2(2.0 * grid[i].xy, grid[i].xx - grid[i].yy);
+    auto turn = [](double d) { return std::remainder(d, 2.0 * kPiD); };
+    int defects = 0;
+    for (int j = 0; j + 1 < blocks; ++j)
+        for (int i = 0; i + 1 < blocks; ++i) {
+            const double loop[4] = {doubled[std::size_t(j) * blocks + i], doubled[std::size_t(j) * blocks + i + 1],
+                                    doubled[std::size_t(j + 1) * blocks + i + 1],
+                                    doubled[std::size_t(j + 1) * blocks + i]};
+            double total = 0.0;
+            for (int k = 0; k < 4; ++k) total += turn(loop[(k + 1) % 4] - loop[k]);
+            if (std::abs(total) > kPiD) ++defects;  // ±2π, or ±4π where two meet
+        }
+    return double(defects) / (double(blocks - 1) * (blocks - 1));
+}
+
+// The gradient structure tensor summed over blocks a 32nd of a side wide,
+// with central differences; of two images, the tensor of their gradients'
+// products (∇a ∇bᵀ, symmetrised): what their noise does not share averages
+// out of each block's tensor, though not wholly out of its eigenvalues'
+// difference (a square root per block), nor out of its angle.
+struct OrientationField {
+    double coherence = 0.0;  // Σ_blocks (λ1 − λ2) over Σ_blocks (λ1 + λ2)
+    double defects = 0.0;
+};
+OrientationField orientation_field(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
+                                   double pixels_per_side) {
     const int n = sq[2];
     const int block = std::max(4, int(std::lround(pixels_per_side / 32.0)));
     auto at = [&](const GrayImage& image, int x, int y) {
@@ -97,20 +127,22 @@ double local_coherence(const GrayImage& a, const GrayImage& b, const std::array<
         return std::array<double, 2>{0.5 * (at(image, x + 1, y) - at(image, x - 1, y)),
                                      0.5 * (at(image, x, y + 1) - at(image, x, y - 1))};
     };
+    const int blocks = std::max(0, (n - 2) / block);  // per side; the first and last pixel have no gradient
+    std::vector<Tensor> grid(std::size_t(blocks) * blocks);
     double anisotropic = 0.0, energy = 0.0;
-    for (int by = 1; by + block <= n - 1; by += block)
-        for (int bx = 1; bx + block <= n - 1; bx += block) {
-            double jxx = 0.0, jxy = 0.0, jyy = 0.0;
-            for (int y = by; y < by + block; ++y)
-                for (int x = bx; x < bx + block; ++x) {
+    for (int j = 0; j < blocks; ++j)
+        for (int i = 0; i < blocks; ++i) {
+            Tensor& t = grid[std::size_t(j) * blocks + i];
+            for (int y = 1 + j * block; y < 1 + (j + 1) * block; ++y)
+                for (int x = 1 + i * block; x < 1 + (i + 1) * block; ++x) {
                     const auto ga = gradient(a, x, y), gb = gradient(b, x, y);
-                    jxx += ga[0] * gb[0], jyy += ga[1] * gb[1];
-                    jxy += 0.5 * (ga[0] * gb[1] + ga[1] * gb[0]);
+                    t.xx += ga[0] * gb[0], t.yy += ga[1] * gb[1];
+                    t.xy += 0.5 * (ga[0] * gb[1] + ga[1] * gb[0]);
                 }
-            anisotropic += std::sqrt((jxx - jyy) * (jxx - jyy) + 4.0 * jxy * jxy);
-            energy += jxx + jyy;
+            anisotropic += std::sqrt((t.xx - t.yy) * (t.xx - t.yy) + 4.0 * t.xy * t.xy);
+            energy += t.xx + t.yy;
         }
-    return energy > 0.0 ? std::min(1.0, anisotropic / energy) : 0.0;
+    return {energy > 0.0 ? std::min(1.0, anisotropic / energy) : 0.0, orientation_defects(grid, blocks)};
 }
 
 // A spectrum of no measured band, of a square of side n.
@@ -167,7 +199,8 @@ TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side,
     const std::array<int, 3> sq = largest_inside_square(image);
     if (sq[2] < 8) return unmeasured(sq[2]);
     TextureSpectrum out = bands_of(cross_periodogram(image, image, sq, noise_variance), sq[2], pixels_per_side);
-    out.coherence = local_coherence(image, image, sq, pixels_per_side);
+    const OrientationField field = orientation_field(image, image, sq, pixels_per_side);
+    out.coherence = field.coherence, out.defects = field.defects;
     return out;
 }
 
@@ -181,7 +214,8 @@ TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, d
     const std::array<int, 3> sq = largest_inside_square(both);
     if (sq[2] < 8) return unmeasured(sq[2]);
     TextureSpectrum out = bands_of(cross_periodogram(a, b, sq, 0.0), sq[2], pixels_per_side);
-    out.coherence = local_coherence(a, b, sq, pixels_per_side);
+    const OrientationField field = orientation_field(a, b, sq, pixels_per_side);
+    out.coherence = field.coherence, out.defects = field.defects;
     return out;
 }
 

@@ -102,7 +102,7 @@ TEST_CASE("--help documents the flags and exits 0", "[cli]") {
     const Result r = run(dir, "volume --help");
     CHECK(r.code == 0);
     for (const char* flag : {"--photo", "--mask", "--resolution", "--structure", "--octaves", "--k",
-                             "--frequency", "--stretch", "--angle", "--bands", "--warp", "--veins",
+                             "--frequency", "--stretch", "--angle", "--bands", "--warp", "--fold", "--veins",
                              "--vein-frequency", "--vein-width", "--layers", "--seed", "--match", "--ds", "--da",
                              "--out"})
         CHECK_THAT(r.out, Catch::Contains(flag));

@@ -65,6 +65,7 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.angle == b.noise.angle);
     CHECK(a.noise.bands == b.noise.bands);
     CHECK(a.noise.warp == b.noise.warp);
+    CHECK(a.noise.fold == b.noise.fold);
     CHECK(a.noise.veins == b.noise.veins);
     CHECK(a.noise.vein_frequency == b.noise.vein_frequency);
     CHECK(a.noise.vein_width == b.noise.vein_width);
@@ -234,7 +235,7 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     TempDir dir;
     NoiseParams marble;
     marble.frequency = 2.83, marble.k = 0.4, marble.stretch = 2.0, marble.angle = 30.0;
-    marble.bands = 12.0, marble.warp = 0.7;
+    marble.bands = 12.0, marble.warp = 0.7, marble.fold = 0.35;  // not the default 1
     // Veins and layers both: each flag changes the levels, so a flag lost
     // on the way would fail the rebuild below.
     marble.veins = GENERATE(false, true);
@@ -246,6 +247,21 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     const MaterialVolume back = read_material_vdb(dir.file("v.vdb"));
     require_same(v, back);
     // The stored parameters alone give the same volume again.
+    CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
+}
+
+TEST_CASE("a file from before the fold reads with the isotropic warp it was made with", "[vdb]") {
+    TempDir dir;
+    NoiseParams layered;
+    layered.layers = true, layered.bands = 12.0, layered.warp = 1.4, layered.frequency = 2.0;
+    MaterialVolume v = sample_volume(16, OpticalParams{}, layered);
+    v.structure = StructureMode::Photo;
+    write_material_vdb(dir.file("v.vdb"), v);
+    auto [grids, meta] = read_all(dir.file("v.vdb"));
+    meta->removeMeta("jade:fold");
+    openvdb::io::File(dir.file("before.vdb")).write(*grids, *meta);
+    const MaterialVolume back = read_material_vdb(dir.file("before.vdb"));
+    CHECK(back.noise.fold == 1.0);
     CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
 }
 

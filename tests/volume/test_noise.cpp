@@ -320,3 +320,38 @@ TEST_CASE("layers need bands", "[noise]") {
     p.bands = 4.0;
     REQUIRE_NOTHROW(p.validate());
 }
+
+TEST_CASE("fold: at 0 every layer folds alike and none turns back, at 1 the warp overturns them", "[noise]") {
+    // The sine's layers under a strong warp (a·f_0 = 2.8, ten times what
+    // overturns a fold, docs/design.md "Structure"), at angle 0: across the
+    // layers is +y. At fold 0 the warp is read at the same point for every
+    // layer of a line across them, so along such a line the value is the
+    // sine itself shifted, its crossings of the median exactly half a layer
+    // apart (256 / 8 / 2 = 16 voxels). At fold 1 the warp changes along the line
+    // and the crossings bunch, spread, and come back where a fold overturns.
+    NoiseParams folded = params(256, 0, 0.5, 11);
+    folded.bands = 8.0, folded.warp = 1.4, folded.frequency = 2.0, folded.fold = 0.0;
+    NoiseParams overturned = folded;
+    overturned.fold = 1.0;
+    const Fbm f(folded), o(overturned);
+    SplitMix64 rng(8);
+    for (int line = 0; line < 8; ++line) {
+        const double x = 256 * rng.uniform(), z = 256 * rng.uniform();
+        std::vector<double> across_f, across_o;
+        for (int i = 0; i < 4096; ++i) {
+            across_f.push_back(f(x, i / 16.0, z));
+            across_o.push_back(o(x, i / 16.0, z));
+        }
+        const std::vector<double> gf = crossing_gaps(across_f), go = crossing_gaps(across_o);
+        CAPTURE(line, gf.size(), go.size(), coefficient_of_variation(gf), coefficient_of_variation(go));
+        REQUIRE(gf.size() >= 14);
+        // 16 voxels of 16 samples each, to a sample.
+        for (double gap : gf) REQUIRE(gap == Approx(256.0).margin(1.0));
+        CHECK(coefficient_of_variation(go) > 0.2);
+    }
+    // Fold is a share between 0 and 1.
+    folded.fold = 1.5;
+    REQUIRE_THROWS_WITH(folded.validate(), Catch::Contains("--fold must be between 0"));
+    folded.fold = -0.1;
+    REQUIRE_THROWS_WITH(folded.validate(), Catch::Contains("--fold must be between 0"));
+}

@@ -22,6 +22,11 @@
 // where the sine's are all alike. The warp is then the paper's fBm
 // (amplitude ratio 1/2, base frequency f_0) of three octaves, smooth, so the
 // packets fold as a whole instead of breaking into a labyrinth.
+// With `fold` ε < 1 (and b > 0) the warp is read at ε times the distance
+// across the layers: neighbouring layers fold nearly alike, as layers folded
+// together do, and the warp's slope across them is ε times smaller, so the
+// layers overturn into rings (as in agate) only where ε·a·f_0 is large;
+// at ε = 0 no layer ever turns back (docs/design.md, "Structure").
 // With `veins` a network of thin veins runs through any of these
 // (docs/design.md, "Structure"): where a second, independent fBm V (amplitude
 // ratio 1/2, base frequency `vein_frequency`) is near zero, |V|/bound_V < w
@@ -56,6 +61,8 @@ struct NoiseParams {
     double vein_frequency = 2.0;  // cycles per cube side of the veins' first octave
     double vein_width = 0.005;    // w, the veins' half-width as a share of their fBm's range
     bool layers = false;     // with bands > 0: a 1-D fBm profile across the layers instead of the sine
+    double fold = 1.0;       // ε in [0, 1], with bands > 0: how fast the warp varies across the layers
+                             // relative to along them; 1 = isotropic, 0 = every layer folds alike
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;
@@ -109,6 +116,7 @@ private:
     double along_x_, along_y_;     // unit direction the structure is stretched along
     double inv_stretch_;
     double bands_per_voxel_, warp_;
+    double fold_ = 1.0;            // ε: the warp's coordinate across the layers is ε·w
     bool veins_;
     bool layers_;
     int profile_octaves_ = 0;       // the layers' octaves, up to the voxel grid's Nyquist frequency

@@ -32,13 +32,15 @@ double photo_pixels_per_side(const Photo& photo);
 GrayImage matched_noise_slice(const NoiseParams& noise, int z, const std::vector<float>& sorted_luma);
 
 // The mean structure distance between slices of this noise, matched to the
-// photo, and the photo; and the mean orientation strength of those slices.
+// photo, and the photo; and the mean orientation strength, coherence and
+// orientation defects (texture_spectrum.h) of those slices.
 struct StructureFit {
     NoiseParams noise;
     double distance = 0.0;
     double strength = 0.0;
     double orientation = 0.0;
     double coherence = 0.0;
+    double defects = 0.0;
 };
 StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo);
 

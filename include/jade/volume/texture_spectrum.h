@@ -45,6 +45,12 @@ struct TextureSpectrum {
     // blocks a 32nd of a side wide (energy-weighted), high for bands and veins
     // even where they wander, low for grain and blobs.
     double coherence = 0.0;
+    // Orientation defects, 0 to 1: the share of the cells between four
+    // neighbouring blocks' centres around which the blocks' orientation turns
+    // by half a turn (a Poincaré index of ±½, as at a fingerprint's cores and
+    // deltas). Few where long layers fold; many where layers end, fork or
+    // close into rings, and in grain (docs/design.md, "Structure").
+    double defects = 0.0;
     int square = 0;                     // side of the measured square, pixels
     int measured_bands() const;
 };
