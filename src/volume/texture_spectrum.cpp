@@ -88,23 +88,29 @@ struct Tensor {
 // TextureSpectrum::defects of a grid of blocks' tensors. The orientation is
 // the tensor's doubled angle, so that a loop's turns count modulo a whole
 // turn of the orientation; half a turn of it is a whole turn of the doubled
-// angle.
+// angle. A block without one (flat, or isotropic exactly: λ1 = λ2) leaves
+// the cells it bounds out of the count and of the share.
 double orientation_defects(const std::vector<Tensor>& grid, int blocks) {
-    if (blocks < 2) return 0.0;
     std::vector<double> doubled(grid.size());
-    for (std::size_t i = 0; i < grid.size(); ++i) doubled[i] = std::atan2(2.0 * grid[i].xy, grid[i].xx - grid[i].yy);
+    std::vector<bool> oriented(grid.size());
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+        const Tensor& t = grid[i];
+        oriented[i] = (t.xx - t.yy) != 0.0 || t.xy != 0.0;
+        doubled[i] = std::atan2(2.0 * t.xy, t.xx - t.yy);
+    }
     auto turn = [](double d) { return std::remainder(d, 2.0 * kPiD); };
-    int defects = 0;
+    int defects = 0, cells = 0;
     for (int j = 0; j + 1 < blocks; ++j)
         for (int i = 0; i + 1 < blocks; ++i) {
-            const double loop[4] = {doubled[std::size_t(j) * blocks + i], doubled[std::size_t(j) * blocks + i + 1],
-                                    doubled[std::size_t(j + 1) * blocks + i + 1],
-                                    doubled[std::size_t(j + 1) * blocks + i]};
+            const std::size_t loop[4] = {std::size_t(j) * blocks + i, std::size_t(j) * blocks + i + 1,
+                                         std::size_t(j + 1) * blocks + i + 1, std::size_t(j + 1) * blocks + i};
+            if (!(oriented[loop[0]] && oriented[loop[1]] && oriented[loop[2]] && oriented[loop[3]])) continue;
             double total = 0.0;
-            for (int k = 0; k < 4; ++k) total += turn(loop[(k + 1) % 4] - loop[k]);
+            for (int k = 0; k < 4; ++k) total += turn(doubled[loop[(k + 1) % 4]] - doubled[loop[k]]);
+            ++cells;
             if (std::abs(total) > kPiD) ++defects;  // ±2π, or ±4π where two meet
         }
-    return double(defects) / (double(blocks - 1) * (blocks - 1));
+    return cells > 0 ? double(defects) / cells : 0.0;
 }
 
 // The gradient structure tensor summed over blocks a 32nd of a side wide,

@@ -166,3 +166,29 @@ TEST_CASE("orientation defects: none where stripes fold, two half-turns where ri
     const GrayImage noise = sinusoid(n, 20.0, 0.0, 1e4);
     CHECK(texture_spectrum(noise, n).defects > 0.2);
 }
+
+TEST_CASE("orientation defects: blocks without an orientation are left out of the count", "[spectrum]") {
+    // Flat grey but for three blocks of fine stripes (blocks of 8 px from
+    // pixel 1) whose gradients point at 45°, 90° and 135°: doubled, 90°,
+    // 180° and 270°. The fourth block of their cell is flat, its angle
+    // undefined (atan2(0, 0) = 0); read as 0 the loop would turn a whole
+    // doubled turn and count a defect that no orientation field has.
+    constexpr int n = 256;
+    auto stripes = [](double x, double row, double degrees_) {
+        const double c = std::cos(radians(degrees_)), s = std::sin(radians(degrees_));
+        return 100.0 + 50.0 * std::sin(2.0 * kPiD * (c * x + s * row) / 4.0);
+    };
+    const GrayImage three = image_of(n, [&](double x, double row) {
+        const int i = (int(x) - 1) / 8, j = (int(row) - 1) / 8;
+        if (x >= 1.0 && row >= 1.0) {
+            if (i == 11 && j == 10) return stripes(x, row, 45.0);
+            if (i == 11 && j == 11) return stripes(x, row, 90.0);
+            if (i == 10 && j == 11) return stripes(x, row, 135.0);
+        }
+        return 100.0;
+    });
+    CHECK(texture_spectrum(three, n).defects == 0.0);
+    // No block has an orientation: no cell is counted, and the share is 0.
+    const GrayImage flat = image_of(n, [](double, double) { return 100.0; });
+    CHECK(texture_spectrum(flat, n).defects == 0.0);
+}
