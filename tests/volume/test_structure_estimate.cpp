@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 using namespace jade;
 
@@ -28,6 +29,21 @@ Photo photo_of(const NoiseParams& noise) {
     }
     p.foreground.assign(p.levels.size(), 1);
     return p;
+}
+
+// Layers of many thicknesses (k 0.85), `bands` per side across `angle`, folded
+// by a warp of `warp` sides at `frequency`, on a 128³ grid.
+NoiseParams layered_truth(std::uint32_t seed, double bands, double warp, double frequency, double angle) {
+    NoiseParams truth;
+    truth.resolution = 128;
+    truth.seed = seed;
+    truth.layers = true;
+    truth.bands = bands;
+    truth.warp = warp;
+    truth.frequency = frequency;
+    truth.k = 0.85;
+    truth.angle = angle;
+    return truth;
 }
 
 }  // namespace
@@ -86,15 +102,7 @@ TEST_CASE("structure estimate: marble bands are told from grain", "[structure]")
 
 TEST_CASE("structure estimate: folded layers of many thicknesses are told from the sine's bands and from grain",
           "[structure]") {
-    NoiseParams truth;
-    truth.resolution = 128;
-    truth.seed = 9;
-    truth.layers = true;
-    truth.bands = 8.0;
-    truth.warp = 0.5;
-    truth.frequency = 1.41;
-    truth.k = 0.85;
-    truth.angle = 60.0;
+    const NoiseParams truth = layered_truth(9, 8.0, 0.5, 1.41, 60.0);
     NoiseParams base;
     base.resolution = 128;
     const StructureEstimate e = estimate_structure(photo_of(truth), base);
@@ -143,15 +151,7 @@ TEST_CASE("structure estimate: folds that never turn back are told from folds ov
     // their orientation defects are not, and the estimate's slices have the
     // photo's. (Fold and frequency trade against each other, so the fold
     // itself is not what is recovered: the defects are.)
-    NoiseParams truth;
-    truth.resolution = 128;
-    truth.seed = 5;
-    truth.layers = true;
-    truth.bands = 12.0;
-    truth.warp = 1.4;
-    truth.frequency = 2.0;
-    truth.k = 0.85;
-    truth.angle = 20.0;
+    NoiseParams truth = layered_truth(5, 12.0, 1.4, 2.0, 20.0);
     NoiseParams base;
     base.resolution = 128;
     double photo_defects[2] = {0.0, 0.0};
