@@ -116,16 +116,21 @@ nlohmann::json structure_json(const PipelineResult& res) {
 }
 
 // A texture spectrum as its measured bands: the lower edge of each band
-// (cycles per cube side) and its share of the variance, so that two spectra
-// in one report can be plotted against each other.
+// (cycles per cube side), its share of the variance and that share's
+// standard error from the noise, and whether it is below the noise, so that
+// two spectra in one report can be plotted against each other.
 nlohmann::json spectrum_json(const TextureSpectrum& s) {
-    std::vector<double> cycles, share;
+    std::vector<double> cycles, share, error;
+    std::vector<bool> below;
     for (int b = 0; b < TextureSpectrum::kBands; ++b)
         if (s.power[b] >= 0.0) {
             cycles.push_back(TextureSpectrum::band_low(b));
             share.push_back(s.power[b]);
+            error.push_back(s.error[b]);
+            below.push_back(s.below_noise[b]);
         }
-    return {{"cycles_per_side", cycles}, {"power_share", share}, {"square_pixels", s.square}};
+    return {{"cycles_per_side", cycles}, {"power_share", share},   {"power_share_error", error},
+            {"below_noise", below},      {"square_pixels", s.square}};
 }
 
 // What a person compares (fit/appearance.h): per channel A, S and D, and the

@@ -60,26 +60,52 @@ WindowedDft windowed_dft(const GrayImage& image, const std::array<int, 3>& sq) {
     return out;
 }
 
+// A (cross-)periodogram of one square, and the power per bin of the images'
+// noise: a render's pixels carry independent noise, white, the same in
+// every bin however its strength varies over the image.
+struct Periodogram {
+    cv::Mat power;             // CV_64F, index (ky, kx) as the DFT leaves it
+    double noise_power = 0.0;  // 0 for images without noise
+    // A bin's variance under noise alone over the square of its noise power:
+    // |N|² − σ² of one image varies by σ⁴; Re(N_a·conj(N_b)) of two, by σ⁴/2.
+    double noise_variance_ratio = 1.0;
+};
+
 // The cross-periodogram Re(A·conj(B)) of two images over one square, less
 // the white-noise floor; A = B gives the periodogram. Noise that the two
 // images do not share averages out of it. A bin may go negative: a bin's
 // noise is exponentially distributed about the floor, so clamping each bin
 // would leave a third of the noise in; sums over many bins average it out
-// instead.
-cv::Mat cross_periodogram(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
-                          double noise_variance) {
+// instead. The noise's power is the floor, or of two images (A = S + N_a,
+// B = S + N_b, the noises independent and alike) half of |A − B|² =
+// |N_a − N_b|² over all bins, which the structure they share leaves out.
+Periodogram cross_periodogram(const GrayImage& a, const GrayImage& b, const std::array<int, 3>& sq,
+                              double noise_variance) {
     const int n = sq[2];
     const WindowedDft fa = windowed_dft(a, sq);
-    const WindowedDft fb = &a == &b ? fa : windowed_dft(b, sq);
-    cv::Mat power(n, n, CV_64F);
+    const bool two = &a != &b;
+    const WindowedDft fb = two ? windowed_dft(b, sq) : fa;
+    Periodogram out{cv::Mat(n, n, CV_64F), 0.0, two ? 0.5 : 1.0};
     const double floor = noise_variance * fa.window_energy;
+    double difference = 0.0;
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
             const cv::Vec2f ca = fa.spectrum.at<cv::Vec2f>(y, x), cb = fb.spectrum.at<cv::Vec2f>(y, x);
-            power.at<double>(y, x) = double(ca[0]) * cb[0] + double(ca[1]) * cb[1] - floor;
+            out.power.at<double>(y, x) = double(ca[0]) * cb[0] + double(ca[1]) * cb[1] - floor;
+            const double dr = double(ca[0]) - cb[0], di = double(ca[1]) - cb[1];
+            difference += dr * dr + di * di;
         }
-    return power;
+    out.noise_power = floor + 0.5 * difference / (double(n) * n - 1.0);  // the DC bin is 0: means removed
+    return out;
 }
+
+// What the bins' correlations make of a band's summed noise variance. A real
+// image's DFT holds every bin twice (k and −k), and the Hann window couples
+// each bin to its neighbours: with correlation 2/3 one bin apart and 1/6 two
+// apart along each axis, a product of two bins' values (of one image or of
+// two) correlates by their squares, (1 + 2·(2/3)² + 2·(1/6)²)² = (35/18)² in
+// two dimensions.
+constexpr double kBinCorrelation = 2.0 * (35.0 / 18.0) * (35.0 / 18.0);
 
 struct Tensor {
     double xx = 0.0, xy = 0.0, yy = 0.0;
@@ -159,12 +185,16 @@ TextureSpectrum unmeasured(int n) {
     return out;
 }
 
-// The bands, orientation and strength of a (cross-)periodogram of an n × n square.
-TextureSpectrum bands_of(const cv::Mat& power, int n, double pixels_per_side) {
+// The bands, orientation and strength of a (cross-)periodogram of an n × n
+// square. A band whose power is under TextureSpectrum::kDetection standard
+// errors of the noise's is below_noise, its share the most it could hide.
+TextureSpectrum bands_of(const Periodogram& periodogram, int n, double pixels_per_side) {
+    const cv::Mat& power = periodogram.power;
     TextureSpectrum out = unmeasured(n);
     // Bands the square measures: at least two cycles across it, at most Nyquist.
     const double f_min = 2.0 * pixels_per_side / n, f_max = 0.5 * pixels_per_side;
     std::array<double, TextureSpectrum::kBands> sum{};
+    std::array<int, TextureSpectrum::kBands> bins{};
     std::array<bool, TextureSpectrum::kBands> measured{};
     for (int b = 0; b < TextureSpectrum::kBands; ++b)
         measured[b] = TextureSpectrum::band_low(b) >= f_min && TextureSpectrum::band_low(b + 1) <= f_max;
@@ -179,6 +209,7 @@ TextureSpectrum bands_of(const cv::Mat& power, int n, double pixels_per_side) {
             if (b < 0 || b >= TextureSpectrum::kBands || !measured[b]) continue;
             const double p = power.at<double>(y, x);
             sum[b] += p;
+            ++bins[b];
             // Orientation tensor of the frequency directions, y up as displayed.
             const double ux = kx / radius, uy = -ky / radius;
             txx += p * ux * ux;
@@ -188,8 +219,14 @@ TextureSpectrum bands_of(const cv::Mat& power, int n, double pixels_per_side) {
     double total = 0.0;
     for (int b = 0; b < TextureSpectrum::kBands; ++b) total += std::max(0.0, sum[b]);
     if (!(total > 0.0)) return out;
-    for (int b = 0; b < TextureSpectrum::kBands; ++b)
-        if (measured[b]) out.power[b] = std::max(0.0, sum[b]) / total;
+    for (int b = 0; b < TextureSpectrum::kBands; ++b) {
+        if (!measured[b]) continue;
+        const double error =
+            std::sqrt(kBinCorrelation * periodogram.noise_variance_ratio * bins[b]) * periodogram.noise_power;
+        out.power[b] = std::max(0.0, sum[b]) / total;
+        out.error[b] = error / total;
+        out.below_noise[b] = error > 0.0 && sum[b] < TextureSpectrum::kDetection * error;
+    }
     // The dominant frequency direction is across the structure.
     const double across = 0.5 * std::atan2(2.0 * txy, txx - tyy);
     out.orientation = std::fmod(degrees(across) + 90.0 + 360.0, 180.0);
@@ -241,9 +278,14 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
     double sq = 0.0;
     for (int i = 0; i < TextureSpectrum::kBands; ++i)
         if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
-            const double d = std::log10(std::max(a.power[i] / sa, kFloor)) -
-                             std::log10(std::max(b.power[i] / sb, kFloor));
-            sq += d * d;
+            const double d = std::log10(std::max(a.compared_share(i) / sa, kFloor)) -
+                             std::log10(std::max(b.compared_share(i) / sb, kFloor));
+            // Under the noise a share is a bound: only the other's excess over it counts.
+            const double counted = a.below_noise[i] && b.below_noise[i] ? 0.0
+                                   : a.below_noise[i]                   ? std::min(d, 0.0)
+                                   : b.below_noise[i]                   ? std::max(d, 0.0)
+                                                                        : d;
+            sq += counted * counted;
         }
     return std::sqrt(sq / common);
 }

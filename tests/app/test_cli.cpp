@@ -630,6 +630,9 @@ TEST_CASE("pipeline: the brightness check reads the final render's first quarter
     REQUIRE(r.code == 0);
     const std::string report = slurp(dir.file("a/report.json"));
     CHECK(json_field(report, "A_full_size_from") == " \"final render\"");
+    // The render's spectrum says which of its bands lie under its noise.
+    CHECK_FALSE(json_field(report, "power_share_error").empty());
+    CHECK_FALSE(json_field(report, "below_noise").empty());
     // The fit rendered nothing at the final size: no share near white by its
     // noise, and the share at 255 of its last render.
     CHECK(json_numbers(report, "near_white_by_noise", 3) == std::vector<double>{-1, -1, -1});

@@ -36,6 +36,11 @@ GrayImage sinusoid(int n, double cycles, double degrees_, double sigma = 0.0, st
     return g;
 }
 
+// Seeds this far apart give images of independent noise: SplitMix64's
+// stream from seed s + 1 is the one from s a draw later, and an image takes
+// 2·256² draws.
+constexpr std::uint64_t kApart = 1'000'000;
+
 int band_of(double cycles_per_side) { return int(std::floor(2.0 * std::log2(cycles_per_side))); }
 
 }  // namespace
@@ -77,7 +82,7 @@ TEST_CASE("cross spectrum: noise the two images do not share averages out", "[sp
     // summed over the 14 bands' positive parts at most ~500·σ²W, 6 % of the
     // sinusoid's power. The periodogram of one copy carries N·σ²W of noise,
     // 8x the sinusoid's.
-    const GrayImage a = sinusoid(256, 20.0, 30.0, 100.0, 1), b = sinusoid(256, 20.0, 30.0, 100.0, 2);
+    const GrayImage a = sinusoid(256, 20.0, 30.0, 100.0, kApart), b = sinusoid(256, 20.0, 30.0, 100.0, 2 * kApart);
     const TextureSpectrum one = texture_spectrum(a, 256.0);
     const TextureSpectrum shared = texture_cross_spectrum(a, b, 256.0);
     CHECK(one.power[band_of(20.0)] < 0.3);
@@ -89,6 +94,83 @@ TEST_CASE("cross spectrum: noise the two images do not share averages out", "[sp
     const TextureSpectrum self = texture_cross_spectrum(a, a, 256.0);
     for (int band = 0; band < TextureSpectrum::kBands; ++band) CHECK(self.power[band] == Approx(one.power[band]));
     CHECK(self.coherence == Approx(one.coherence));
+}
+
+namespace {
+
+// White noise of standard deviation `sigma` about 100, nothing else.
+GrayImage white(int n, double sigma, std::uint64_t seed) {
+    GrayImage g = sinusoid(n, 1.0, 0.0, sigma, seed);
+    const GrayImage flat = sinusoid(n, 1.0, 0.0);
+    for (std::size_t i = 0; i < g.values.size(); ++i) g.values[i] -= flat.values[i] - 100.0f;
+    return g;
+}
+
+}  // namespace
+
+TEST_CASE("cross spectrum: the bands' standard error is the noise's", "[spectrum]") {
+    // Two halves of pure noise share nothing: each band's cross power is the
+    // noises' product, about 0, over the standard error the spectrum states
+    // z ~ N(0, 1), so z > 1 in 15.9 % of the bands and z > 2 in 2.3 %. Over
+    // 40 pairs of 12 bands those shares are known to ±0.017 and ±0.007; the
+    // bounds are 4 of those from them and would catch an error misjudged by
+    // half. A band is below the noise unless z > 3.
+    auto tally = [](const TextureSpectrum& s, int& bands, int& over_one, int& over_two, int& below) {
+        for (int b = 0; b < TextureSpectrum::kBands; ++b) {
+            if (s.power[b] < 0.0) continue;
+            REQUIRE(s.error[b] > 0.0);
+            const double z = s.power[b] / s.error[b];
+            ++bands, over_one += z > 1.0, over_two += z > 2.0, below += s.below_noise[b];
+            CHECK(s.below_noise[b] == (z < TextureSpectrum::kDetection));
+        }
+    };
+    int bands = 0, over_one = 0, over_two = 0, below = 0;
+    for (std::uint64_t seed = 1; seed <= 40; ++seed)
+        tally(texture_cross_spectrum(white(256, 30.0, kApart * seed), white(256, 30.0, kApart * seed + kApart / 2), 256.0),
+              bands, over_one, over_two, below);
+    REQUIRE(bands == 40 * 12);
+    CHECK(double(over_one) / bands == Approx(0.159).margin(0.07));
+    CHECK(double(over_two) / bands < 0.05);
+    CHECK(double(below) / bands > 0.99);
+    // One image less a known floor: the same for the floor's noise.
+    bands = over_one = over_two = below = 0;
+    for (std::uint64_t seed = 1; seed <= 40; ++seed)
+        tally(texture_spectrum(white(256, 30.0, kApart * seed), 256.0, 30.0 * 30.0), bands, over_one, over_two, below);
+    CHECK(double(over_one) / bands == Approx(0.159).margin(0.07));
+    CHECK(double(over_two) / bands < 0.05);
+    // An image without noise has no error and no band under it.
+    const TextureSpectrum clean = texture_spectrum(white(256, 30.0, 7), 256.0);
+    for (int b = 0; b < TextureSpectrum::kBands; ++b) CHECK((clean.error[b] == 0.0 && !clean.below_noise[b]));
+}
+
+TEST_CASE("structure distance: bands under the noise neither match nor miss", "[spectrum]") {
+    // The sinusoid of "noise the two images do not share" under noise of 8x
+    // its variance: every band but its own is under the noise, and the
+    // distance to the noiseless sinusoid is what its band says, for every
+    // pair of halves. With each band's noise taken as its measured share, as
+    // before, the pure-noise bands stood for structure the sinusoid lacks.
+    const TextureSpectrum truth = texture_spectrum(sinusoid(256, 20.0, 30.0), 256.0);
+    double least = 1e9, most = 0.0;
+    for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+        const TextureSpectrum shared = texture_cross_spectrum(sinusoid(256, 20.0, 30.0, 100.0, kApart * seed),
+                                                              sinusoid(256, 20.0, 30.0, 100.0, kApart * seed + kApart / 2),
+                                                              256.0);
+        CHECK(!shared.below_noise[band_of(20.0)]);
+        const double d = structure_distance(shared, truth);
+        least = std::min(least, d);
+        most = std::max(most, d);
+    }
+    CHECK(most < 0.2);
+    CHECK(most - least < 0.1);
+    // Two images each under its own noise in a band compare there as equal
+    // (what is left is the other bands' renormalisation).
+    TextureSpectrum a = truth, b = truth;
+    const int low = band_of(4.0);
+    a.power[low] = 0.5, b.power[low] = 0.001;
+    const double apart = structure_distance(a, b);
+    a.below_noise[low] = b.below_noise[low] = true;
+    CHECK(apart > 0.5);
+    CHECK(structure_distance(a, b) < 0.1);
 }
 
 TEST_CASE("structure distance: zero for one structure, large for another scale", "[spectrum]") {

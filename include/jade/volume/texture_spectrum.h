@@ -36,6 +36,22 @@ struct TextureSpectrum {
     // Share of the measured variance per band; < 0 where the image cannot
     // measure the band (below 2 cycles across the square, above Nyquist).
     std::array<double, kBands> power{};
+    // The standard error of each share from the images' noise (of a
+    // cross-periodogram, or of a periodogram less a noise floor; 0 for an
+    // image without noise), and whether the band is below_noise: its power
+    // under kDetection standard errors, so that the image does not resolve it
+    // and power + kDetection·error is the most it could hide there, a bound
+    // rather than a measurement (docs/design.md, "Appearance": bands under
+    // the noise).
+    std::array<double, kBands> error{};
+    std::array<bool, kBands> below_noise{};
+    // Three standard errors: at two, 2.3 % of the bands of pure noise read as
+    // structure, in a quarter of the spectra of 12 bands, and one such band
+    // against another image's empty one costs more than a whole mismatch.
+    static constexpr double kDetection = 3.0;
+    // The band's share as structure_distance compares it: the measured
+    // share, or the bound of a band below the noise.
+    double compared_share(int b) const { return below_noise[b] ? power[b] + kDetection * error[b] : power[b]; }
     // The direction the structure runs along, degrees counterclockwise from
     // the displayed image's horizontal, in [0, 180); and how strongly, from 0
     // (isotropic) to 1 (every frequency along one direction).
@@ -75,7 +91,9 @@ TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, d
 // The root mean square difference of two spectra's log10 power shares over
 // the bands both measure, each renormalised to those bands: 0 for the same
 // structure at the same scale, 0.3 for a factor of two per band. Negative
-// when they share fewer than two bands.
+// when they share fewer than two bands. A band under one image's noise
+// counts only by how far the other's share exceeds its bound (nothing when
+// both are under it): what the noise hides is neither a match nor a miss.
 double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b);
 
 // `s` measured only in the bands `other` measures too: two spectra held
