@@ -756,6 +756,9 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
                          "The default with --veins (the estimate searches them; the paper's method has none)")
         ->capture_default_str();
     fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
+    fidelity->add_option("--seeds", fbench.seeds,
+                         "Run both methods with noise and render seeds 1..N and give D's ratio over them")
+        ->capture_default_str();
     auto* stiff = cmd->add_subcommand(
         "stiff", "Stiff media: the white furnace from sigma_t 1 to 1e5, with and without sphere walks");
     stiff->add_option("--width", sbench.width, "Image width and height")->capture_default_str();

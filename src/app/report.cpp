@@ -387,6 +387,14 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
 
 // The final render's outcome on the console: its error, how it compares with
 // the photo, the stages' seconds and the files written.
+// After a structure distance: how many of the noisy spectrum's bands read
+// their detection limit (texture_spectrum.h), where any do.
+std::string under_noise(const TextureSpectrum& s) {
+    const int below = s.bands_below_noise();
+    if (below == 0) return "";
+    return " (" + std::to_string(below) + " of " + std::to_string(s.measured_bands()) + " bands under the noise)";
+}
+
 void print_render_summary(const PipelineResult& r) {
     const PassRecord& last = r.final_render.passes.back();
     std::printf("final render: %s in %.1f s, estimated relative error %.4f", format_spp(last).c_str(),
@@ -397,14 +405,14 @@ void print_render_summary(const PipelineResult& r) {
     std::printf("\n");
     const Appearance& look = r.final_look;
     std::printf("final render against the photo: A (%.1f, %.1f, %.1f) / (%.1f, %.1f, %.1f), S (%.1f, %.1f, %.1f) / "
-                "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f\n",
+                "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f%s\n",
                 look.a_render[0], look.a_render[1], look.a_render[2], look.a_photo[0], look.a_photo[1], look.a_photo[2],
                 look.s_render[0], look.s_render[1], look.s_render[2], look.s_photo[0], look.s_photo[1],
-                look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure);
+                look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure, under_noise(look.render).c_str());
     if (r.material)
         std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
                     "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f) over %d px blocks (noise %.1f, %.1f, %.1f levels; "
-                    "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f; its two renders %.1f s; "
+                    "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f%s; its two renders %.1f s; "
                     "the photo's own stone under the render's shading: D (%.4f, %.4f, %.4f), structure distance "
                     "%.3f; the least D of any material under it (%.4f, %.4f, %.4f)\n",
                     r.material->block, r.material->s_material[0], r.material->s_material[1],
@@ -412,7 +420,8 @@ void print_render_summary(const PipelineResult& r) {
                     r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2], r.material->d_block,
                     r.material->d_noise[0], r.material->d_noise[1], r.material->d_noise[2],
                     r.material->d_photo_spread[0], r.material->d_photo_spread[1], r.material->d_photo_spread[2],
-                    r.material->structure, r.seconds_measure, r.material->d_stone[0], r.material->d_stone[1],
+                    r.material->structure, under_noise(r.material->spectrum).c_str(), r.seconds_measure,
+                    r.material->d_stone[0], r.material->d_stone[1],
                     r.material->d_stone[2], r.material->structure_stone, r.material->d_least[0],
                     r.material->d_least[1], r.material->d_least[2]);
     if (r.structure_estimated)

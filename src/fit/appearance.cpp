@@ -142,8 +142,10 @@ Appearance compare_appearance(const RgbHistogram& photo_histogram, const Texture
     a.photo = photo;
     // From the halves where the film has them: the subtracted floor bounds
     // the noise from above (the channels' noise taken as fully correlated),
-    // and where it exceeds a fine band's power the band reads empty, 3–4
-    // decades below the photo's (the cow's 90-cycle band under Onyx010 did).
+    // and where it exceeds a fine band's power the band falls under the
+    // noise (the cow's 90-cycle band under Onyx010 did; held empty, as
+    // before bands under the noise read their detection limit, it read 3–4
+    // decades below the photo's).
     a.render = render.luma_halves[0].width > 0
                    ? texture_cross_spectrum(render.luma_halves[0], render.luma_halves[1], pixels_per_side)
                    : texture_spectrum(render.luma, pixels_per_side, render.luma_noise_variance);

@@ -32,6 +32,12 @@ int TextureSpectrum::measured_bands() const {
     return int(std::count_if(power.begin(), power.end(), [](double p) { return p >= 0.0; }));
 }
 
+int TextureSpectrum::bands_below_noise() const {
+    int n = 0;
+    for (int b = 0; b < kBands; ++b) n += power[b] >= 0.0 && below_noise[b];
+    return n;
+}
+
 namespace {
 
 // The square's values, Hann-windowed with their mean removed, and their DFT.
@@ -187,7 +193,7 @@ TextureSpectrum unmeasured(int n) {
 
 // The bands, orientation and strength of a (cross-)periodogram of an n × n
 // square. A band whose power is under TextureSpectrum::kDetection standard
-// errors of the noise's is below_noise, its share the most it could hide.
+// errors of the noise's is below_noise.
 TextureSpectrum bands_of(const Periodogram& periodogram, int n, double pixels_per_side) {
     const cv::Mat& power = periodogram.power;
     TextureSpectrum out = unmeasured(n);
@@ -267,8 +273,8 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
     int common = 0;
     for (int i = 0; i < TextureSpectrum::kBands; ++i)
         if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
-            sa += a.power[i];
-            sb += b.power[i];
+            sa += a.compared_share(i);
+            sb += b.compared_share(i);
             ++common;
         }
     if (common < 2 || !(sa > 0.0) || !(sb > 0.0)) return -1.0;
@@ -280,12 +286,7 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
         if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
             const double d = std::log10(std::max(a.compared_share(i) / sa, kFloor)) -
                              std::log10(std::max(b.compared_share(i) / sb, kFloor));
-            // Under the noise a share is a bound: only the other's excess over it counts.
-            const double counted = a.below_noise[i] && b.below_noise[i] ? 0.0
-                                   : a.below_noise[i]                   ? std::min(d, 0.0)
-                                   : b.below_noise[i]                   ? std::max(d, 0.0)
-                                                                        : d;
-            sq += counted * counted;
+            sq += d * d;
         }
     return std::sqrt(sq / common);
 }

@@ -929,6 +929,15 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK_THAT(guide.err, Catch::Contains("light_guide"));
 }
 
+TEST_CASE("bench fidelity --seeds: refused below 1 before anything is written", "[cli][fit]") {
+    TempDir dir;
+    require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
+                                   "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow + " --seeds 0 --out " +
+                                   dir.file("c"),
+                          "--seeds");
+    CHECK_FALSE(std::filesystem::exists(dir.file("c")));
+}
+
 TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {
     TempDir dir;
     const std::string job = "render --mesh " + kBlob + " --sigma-s 4,6,8 --sigma-a 0.2,0.4,1 --width 32 --height 24 "

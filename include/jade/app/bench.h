@@ -3,7 +3,9 @@
 // printed as a table. Measured here, never by timed tests.
 
 #include <cstdint>
+#include <array>
 #include <string>
+#include <vector>
 
 namespace jade {
 
@@ -82,7 +84,22 @@ struct FidelityBenchOptions {
     int resolution = 256;          // of both volumes
     int width = 512, height = 512; // of both final renders
     bool veins = false;            // the default's structure with veins (NoiseParams::veins)
+    // Both methods with noise and render seeds 1..seeds, each pair into
+    // default-seedS/ and paper-seedS/ (above 1), and D's ratio over them with
+    // its standard error: one seed's pattern against the form's shading moves
+    // a whole render's D by up to a factor of two.
+    int seeds = 1;
 };
 int run_fidelity_benchmark(const FidelityBenchOptions& options);
+
+// D(default) / D(paper) per channel over paired seeds (the same seeds for
+// both methods): the ratio of the mean D's, and its standard error from the
+// seeds' scatter by the delta method, the standard deviation of
+// D_default − ratio·D_paper over the mean D_paper, over √n (0 for one seed).
+struct SeedRatio {
+    std::array<double, 3> mean_default{}, mean_paper{}, ratio{}, standard_error{};
+};
+SeedRatio ratio_over_seeds(const std::vector<std::array<double, 3>>& d_default,
+                           const std::vector<std::array<double, 3>>& d_paper);
 
 }  // namespace jade
