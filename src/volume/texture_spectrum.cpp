@@ -273,8 +273,8 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
     int common = 0;
     for (int i = 0; i < TextureSpectrum::kBands; ++i)
         if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
-            sa += a.compared_share(i);
-            sb += b.compared_share(i);
+            sa += a.power[i];
+            sb += b.power[i];
             ++common;
         }
     if (common < 2 || !(sa > 0.0) || !(sb > 0.0)) return -1.0;
@@ -284,8 +284,8 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
     double sq = 0.0;
     for (int i = 0; i < TextureSpectrum::kBands; ++i)
         if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
-            const double d = std::log10(std::max(a.compared_share(i) / sa, kFloor)) -
-                             std::log10(std::max(b.compared_share(i) / sb, kFloor));
+            const double d = std::log10(std::max(a.power[i] / sa, kFloor)) -
+                             std::log10(std::max(b.power[i] / sb, kFloor));
             sq += d * d;
         }
     return std::sqrt(sq / common);

@@ -40,17 +40,14 @@ struct TextureSpectrum {
     // cross-periodogram, or of a periodogram less a noise floor; 0 for an
     // image without noise), and whether the band is below_noise: its power
     // under kDetection standard errors, the least the noise lets one see
-    // there (docs/design.md, "Appearance": bands under the noise).
+    // there. The distance takes the share as measured all the same; the
+    // flags say where it is the noise's draw (docs/design.md, "Appearance":
+    // bands under the noise).
     std::array<double, kBands> error{};
     std::array<bool, kBands> below_noise{};
     // Three standard errors: at two, 2.3 % of the bands of pure noise read as
     // structure, in a quarter of the spectra of 12 bands.
     static constexpr double kDetection = 3.0;
-    // The band's share as structure_distance compares it: the measured
-    // share, or for a band under the noise its detection limit, which the
-    // noise's level sets and not its chance draw (the draw, anything from
-    // nothing to the limit, moved a near-white marble's distance by 2.7).
-    double compared_share(int b) const { return below_noise[b] ? kDetection * error[b] : power[b]; }
     // The direction the structure runs along, degrees counterclockwise from
     // the displayed image's horizontal, in [0, 180); and how strongly, from 0
     // (isotropic) to 1 (every frequency along one direction).
@@ -91,10 +88,9 @@ TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, d
 // The root mean square difference of two spectra's log10 power shares over
 // the bands both measure, each renormalised to those bands: 0 for the same
 // structure at the same scale, 0.3 for a factor of two per band. Negative
-// when they share fewer than two bands. A band under an image's noise is
-// compared at its detection limit (TextureSpectrum::compared_share): a noisy
-// image's distance says what its noise lets one see, steadily, and is not
-// made smaller by more noise where the other image has less power than that.
+// when they share fewer than two bands. Bands under an image's noise
+// (TextureSpectrum::below_noise) count as measured: where many are, the
+// distance moves with the noise's draw.
 double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b);
 
 // `s` measured only in the bands `other` measures too: two spectra held
