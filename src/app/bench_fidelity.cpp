@@ -87,8 +87,9 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     print_row(d_label, d_def, d_paper, " %8.4f");
     std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, render", def.final_look.structure, "",
                 paper.final_look.structure);
-    // A band under a render's noise reads its detection limit: where most
-    // do, the distance says what the noise lets one see, not the material.
+    // A band under a render's noise is the noise's draw: where most are, the
+    // distance says that the render shows noise there, not how near its
+    // structure is (docs/design.md, "Bands under the noise").
     std::printf("  %-34s  %5d of %-2d %15s  %5d of %-2d\n", "  bands under the noise", def.final_look.render.bands_below_noise(),
                 def.final_look.render.measured_bands(), "", paper.final_look.render.bands_below_noise(),
                 paper.final_look.render.measured_bands());

@@ -385,16 +385,16 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
     }
 }
 
-// The final render's outcome on the console: its error, how it compares with
-// the photo, the stages' seconds and the files written.
-// After a structure distance: how many of the noisy spectrum's bands read
-// their detection limit (texture_spectrum.h), where any do.
+// After a structure distance: how many of the noisy spectrum's bands lie
+// under its noise (TextureSpectrum::below_noise), where any do.
 std::string under_noise(const TextureSpectrum& s) {
     const int below = s.bands_below_noise();
     if (below == 0) return "";
     return " (" + std::to_string(below) + " of " + std::to_string(s.measured_bands()) + " bands under the noise)";
 }
 
+// The final render's outcome on the console: its error, how it compares with
+// the photo, the stages' seconds and the files written.
 void print_render_summary(const PipelineResult& r) {
     const PassRecord& last = r.final_render.passes.back();
     std::printf("final render: %s in %.1f s, estimated relative error %.4f", format_spp(last).c_str(),
