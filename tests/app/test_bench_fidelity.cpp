@@ -63,3 +63,36 @@ TEST_CASE("ratio over seeds: the standard error is the ratio's own scatter over 
     CHECK(mean == Approx(0.5).margin(0.005));
     CHECK(stated == Approx(sd).epsilon(0.15));
 }
+
+TEST_CASE("over-seeds summary: the default's, the stone's and the least's D against the paper's", "[bench]") {
+    // Three seeds worked by hand. Red: the default at 0.6 of the paper's D on
+    // every seed, the stone at 0.8, the least at 0.4; green: the default's D
+    // 0.002 and 0.004 against 0.004 twice, then 0.003 against 0.004 (mean
+    // ratio 0.75, residuals −0.001, +0.001, 0: variance 10⁻⁶, standard error
+    // √(10⁻⁶ / 3) / 0.004 = 0.14).
+    std::vector<SeedDistances> seeds;
+    const double green[3] = {0.002, 0.004, 0.003};
+    for (int s = 0; s < 3; ++s) {
+        const double p = 0.005 + 0.001 * s;
+        seeds.push_back({{0.6 * p, green[s], 0.001}, {p, 0.004, 0.010}, {0.8 * p, 0.003, 0.002}, {0.4 * p, 0.001, 0.0}});
+    }
+    const std::string text = over_seeds_summary(seeds);
+    CHECK(text.find("over 3 noise and render seeds") != std::string::npos);
+    CHECK(text.find("R: mean D 0.0036 against 0.0060, ratio 0.60 +- 0.00; by seed 0.60 0.60 0.60") !=
+          std::string::npos);
+    CHECK(text.find("G: mean D 0.0030 against 0.0040, ratio 0.75 +- 0.14; by seed 0.50 1.00 0.75") !=
+          std::string::npos);
+    CHECK(text.find("B: mean D 0.0010 against 0.0100, ratio 0.10 +- 0.00") != std::string::npos);
+    const auto stone = text.find("the photo's own stone"), least = text.find("the least of any material");
+    REQUIRE(stone != std::string::npos);
+    REQUIRE(least != std::string::npos);
+    CHECK(text.substr(stone, least - stone).find("0.80 +- 0.00  0.75 +- 0.00  0.20 +- 0.00") != std::string::npos);
+    CHECK(text.substr(least).find("0.40 +- 0.00  0.25 +- 0.00  0.00 +- 0.00") != std::string::npos);
+    // A seed without the least (no object pixel in its shading) is said so,
+    // not averaged as a negative D.
+    seeds[1].d_least = {-1.0, -1.0, -1.0};
+    const std::string partial = over_seeds_summary(seeds);
+    CHECK(partial.substr(partial.find("the least of any material")).find("not measured on every seed") !=
+          std::string::npos);
+    CHECK(partial.substr(partial.find("the photo's own stone")).find("0.80 +- 0.00") != std::string::npos);
+}

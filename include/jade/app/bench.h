@@ -102,4 +102,18 @@ struct SeedRatio {
 SeedRatio ratio_over_seeds(const std::vector<std::array<double, 3>>& d_default,
                            const std::vector<std::array<double, 3>>& d_paper);
 
+// One seed's whole-render D per channel: the default's and the paper's
+// method's, and under the default's shading the photo's own stone's and the
+// least any material reaches (fit/appearance.h, MaterialAppearance::d_stone
+// and d_least; negative where not measured).
+struct SeedDistances {
+    std::array<double, 3> d_default{}, d_paper{}, d_stone{}, d_least{};
+};
+// What `bench fidelity --seeds` ends with: per channel the default's D over
+// the paper's (ratio_over_seeds) and each seed's; then, over the same seeds,
+// the stone's and the least's D over the paper's. The goal asks the default
+// for half the paper's D; where the stone itself reads above that, a render
+// as near the photo as the stone misses it by the shading alone.
+std::string over_seeds_summary(const std::vector<SeedDistances>& seeds);
+
 }  // namespace jade
