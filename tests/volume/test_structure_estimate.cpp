@@ -170,3 +170,25 @@ TEST_CASE("structure estimate: folds that never turn back are told from folds ov
     CAPTURE(photo_defects[0], photo_defects[1]);
     REQUIRE(photo_defects[1] > 2.0 * photo_defects[0]);
 }
+
+TEST_CASE("structure estimate: the fold and the warp are found together", "[structure]") {
+    // One layer per side folded by a warp of 1.4 sides read at a 20th of the
+    // distance across it: long folds, never overturned. Moving the fold and
+    // then the warp one at a time, the search stopped at ε = 1 and a warp of
+    // 1 (the start's), whose slices are as near the photo's spectrum but
+    // fold differently; over both at once it lands on the truth's grid
+    // neighbourhood.
+    NoiseParams truth = layered_truth(5, 1.0, 1.4, 1.41, 20.0);
+    truth.fold = 0.05;
+    NoiseParams base;
+    base.resolution = 128;
+    const StructureEstimate e = estimate_structure(photo_of(truth), base);
+    const NoiseParams& got = e.chosen.noise;
+    CAPTURE(got.frequency, got.k, got.bands, got.warp, got.fold, got.layers, e.chosen.distance, e.chosen.defects,
+            e.photo.defects);
+    REQUIRE(got.layers);
+    CHECK(got.fold <= 0.1);
+    CHECK(got.warp >= 1.0);
+    CHECK(got.warp <= 2.0);
+    CHECK(e.chosen.distance < 0.5 * e.paper.distance);
+}

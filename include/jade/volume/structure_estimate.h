@@ -53,7 +53,7 @@ struct StructureEstimate {
 };
 // Searches f_0, k, r, the bands b and their warp a (coordinate descent over fixed grids, from the
 // paper's fBm, a marble and folded layers, NoiseParams::layers) with the angle taken from the
-// photo's orientation. `base`
+// photo's orientation, then the bands' fold and warp together over their whole grid. `base`
 // gives the resolution, octaves and seed, and whether the structure has veins
 // (NoiseParams::veins; then their frequency and width are searched too).
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base);
