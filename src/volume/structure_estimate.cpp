@@ -238,7 +238,7 @@ StructureFit descend(const NoiseParams& start, Evaluations& evaluations) {
 // because whether a fold overturns depends on their product: one at a time,
 // the search stopped on Onyx010 at ε = 0.7 with a few closed loops, where
 // ε = 0.05 with a warp one step stronger has none and scores as well
-// (docs/design.md, "Folds and their defects").
+// (docs/design.md, "The fold and the warp together").
 StructureFit fold_layers(const StructureFit& fit, Evaluations& evaluations) {
     if (!(fit.noise.bands > 0.0)) return fit;
     std::vector<NoiseParams> candidates;
