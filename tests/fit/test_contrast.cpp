@@ -708,14 +708,25 @@ TEST_CASE("contrast fit: where the renders' noise hides S_material, the contrast
 TEST_CASE("contrast fit: where the first step's noise hides S_material and more samples would show it, the fit "
           "takes them",
           "[fitter][contrast][fit-session]") {
-    // The scene of the test above, and a photo of four patches 16 levels
-    // apart in every channel: S is 8 levels over any block inside a patch.
+    // The scene of the test above, and a photo of four patches 22 levels
+    // apart in every channel: S is 11 levels over any block inside a patch.
     // At 16 samples per pixel (the floor at 48²) the first step's noise
-    // hides red's S and names 64, within kMaxSpreadSppGain times: with
-    // --fit-spread-spp 0 the fit takes that many and fits every channel's
-    // contrast; given as 16, the count stays and the warning names 64.
+    // hides a channel's S and names a count within kMaxSpreadSppGain times:
+    // with --fit-spread-spp 0 the fit takes kMaxSpreadSppGain times the
+    // samples and fits every channel's contrast; given as 16, the count
+    // stays and the warning names the count. Whether the first step hides S
+    // and which count it names are the noise's draw: over render seeds 1–8
+    // red's S² scattered by 32–54 levels² between the first step's renders
+    // where it hid (twice it did not hide), and the rule names a count
+    // within reach for a scatter between 0.2 × 11² = 24 levels² and
+    // 4^(2/3) times that, 61. Another machine draws otherwise at the same
+    // seed (at 16 levels apart and seed 1 one machine named 64, another
+    // 128, out of reach; the renders are bit-identical across thread
+    // counts, not across processors and builds): the test takes the
+    // first seed that shows the case, so that it checks what the fit does
+    // with a hidden spread, not one draw.
     test::FitTestScene t(test::ramp_photo(40, 190, 20), 48);
-    constexpr int kHalfStep = 8;
+    constexpr int kHalfStep = 11;
     Photo photo;
     photo.width = photo.height = 32;
     for (int y = 0; y < 32; ++y)
@@ -746,16 +757,28 @@ TEST_CASE("contrast fit: where the first step's noise hides S_material and more 
         for (const std::string& w : out.warnings) s << w << "\n";
         return s.str();
     };
-    const FitOutcome given = fit(kMinSpreadSpp);
+    const auto hidden_within_reach = [](const FitOutcome& out) {
+        return out.contrast_fitted != std::array<bool, 3>{true, true, true} &&
+               out.spread_spp_advised > kMinSpreadSpp && out.spread_spp_advised <= kMaxSpreadSppGain * kMinSpreadSpp;
+    };
+    constexpr std::uint64_t kSeeds = 8;
+    FitOutcome given;
+    std::ostringstream tried;
+    for (settings.seed = 1; settings.seed <= kSeeds; ++settings.seed) {
+        given = fit(kMinSpreadSpp);
+        if (hidden_within_reach(given)) break;
+        tried << "seed " << settings.seed << ": " << describe(given);
+    }
+    INFO(tried.str());
+    REQUIRE(settings.seed <= kSeeds);
     const FitOutcome raised = fit(0);
-    INFO("given: " << describe(given) << "raised: " << describe(raised));
+    INFO("seed " << settings.seed << "; given: " << describe(given) << "raised: " << describe(raised));
 
     CHECK(given.spread_spp == kMinSpreadSpp);
     CHECK(given.spread_spp_raised_from == 0);
-    CHECK_FALSE(given.contrast_fitted[0]);
-    CHECK(given.spread_spp_advised == 4 * kMinSpreadSpp);
     REQUIRE_FALSE(given.warnings.empty());
-    CHECK_THAT(given.warnings[0], Catch::Contains("--fit-spread-spp 64 would show it"));
+    CHECK_THAT(given.warnings[0], Catch::Contains("--fit-spread-spp " + std::to_string(given.spread_spp_advised) +
+                                                  " would show it"));
 
     CHECK(raised.spread_spp_raised_from == kMinSpreadSpp);
     CHECK(raised.spread_spp == kMaxSpreadSppGain * kMinSpreadSpp);
