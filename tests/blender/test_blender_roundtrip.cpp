@@ -146,7 +146,7 @@ TEST_CASE("Blender round trip: a homogeneous medium in each boundary renders ali
                                         "{\"sigma_s\": [3.0, 1.5, 0.8], \"sigma_a\": [0.05, 0.2, 0.4]}", boundary,
                                         "{\"direction\": [0.35, 0.8, 0.5], \"irradiance\": 3.0, "
                                         "\"radius_degrees\": 20, \"environment\": \"0.2\"}",
-                                        40, 512),
+                                        40, 256),
                                "CAMERA",
                                "{\"origin\": [0, 0.8, 3.6], \"target\": [0, 0, 0], \"fov_degrees\": 40, "
                                "\"width\": 40, \"height\": 40}"));
@@ -177,7 +177,7 @@ TEST_CASE("Blender round trip: a delta light behind the split boundary becomes a
                                 "{\"sigma_s\": [3.0, 1.5, 0.8], \"sigma_a\": [0.05, 0.2, 0.4]}", "split",
                                 "{\"direction\": [0.35, 0.45, 0.82], \"irradiance\": 3.0, "
                                 "\"radius_degrees\": 0, \"environment\": \"0.2\"}",
-                                40, 512),
+                                40, 256),
                        "CAMERA",
                        "{\"origin\": [0, 0.8, 3.6], \"target\": [0, 0, 0], \"fov_degrees\": 40, "
                        "\"width\": 40, \"height\": 40}"));
