@@ -756,6 +756,9 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
                          "The default with --veins (the estimate searches them; the paper's method has none)")
         ->capture_default_str();
     fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
+    fidelity->add_option("--spp", fbench.spp,
+                         "Samples per pixel of both final renders and of the renders measuring their material")
+        ->capture_default_str();
     fidelity->add_option("--seeds", fbench.seeds,
                          "Run both methods with noise and render seeds 1..N and give D's ratio over them")
         ->capture_default_str();

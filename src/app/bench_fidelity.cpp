@@ -30,6 +30,7 @@ PipelineOptions common_options(const FidelityBenchOptions& b, const std::string&
     o.render.mesh = b.mesh;
     o.render.width = b.width;
     o.render.height = b.height;
+    o.render.settings.spp = b.spp;
     o.measure_material = true;
     o.progress = true;
     return o;
@@ -214,11 +215,13 @@ std::string over_seeds_summary(const std::vector<SeedDistances>& seeds) {
 int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     if (b.photo.empty() || b.mesh.empty()) throw Error("bench fidelity needs --photo and --mesh");
     if (b.seeds < 1) throw Error("bench fidelity: --seeds must be at least 1");
+    if (b.spp < 1) throw Error("bench fidelity: --spp must be at least 1");
     std::error_code ec;
     fs::create_directories(b.out_dir, ec);
     if (ec) fail_file(b.out_dir, "cannot create the output folder: " + ec.message());
-    std::printf("fidelity: %s on %s, volume %d^3, final renders %dx%d, %d seed%s; results in %s/\n", b.photo.c_str(),
-                b.mesh.c_str(), b.resolution, b.width, b.height, b.seeds, b.seeds > 1 ? "s" : "", b.out_dir.c_str());
+    std::printf("fidelity: %s on %s, volume %d^3, final renders %dx%d at %d spp, %d seed%s; results in %s/\n",
+                b.photo.c_str(), b.mesh.c_str(), b.resolution, b.width, b.height, b.spp, b.seeds,
+                b.seeds > 1 ? "s" : "", b.out_dir.c_str());
     std::fflush(stdout);
     std::vector<SeedDistances> distances;
     for (int seed = 1; seed <= b.seeds; ++seed) {

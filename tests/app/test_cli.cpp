@@ -932,13 +932,15 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK_THAT(guide.err, Catch::Contains("light_guide"));
 }
 
-TEST_CASE("bench fidelity --seeds: refused below 1 before anything is written", "[cli][fit]") {
-    TempDir dir;
-    require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
-                                   "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow + " --seeds 0 --out " +
-                                   dir.file("c"),
-                          "--seeds");
-    CHECK_FALSE(std::filesystem::exists(dir.file("c")));
+TEST_CASE("bench fidelity --seeds and --spp: refused below 1 before anything is written", "[cli][fit]") {
+    for (const char* option : {"--seeds", "--spp"}) {
+        TempDir dir;
+        require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
+                                       "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow + " " + option +
+                                       " 0 --out " + dir.file("c"),
+                              option);
+        CHECK_FALSE(std::filesystem::exists(dir.file("c")));
+    }
 }
 
 TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {

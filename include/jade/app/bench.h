@@ -83,6 +83,10 @@ struct FidelityBenchOptions {
     std::string out_dir = "fidelity-bench";
     int resolution = 256;          // of both volumes
     int width = 512, height = 512; // of both final renders
+    // Samples per pixel of both final renders and of the renders that measure
+    // their material (--measure-material): the render structure distance's
+    // bands under the noise (TextureSpectrum::below_noise) fall with it.
+    int spp = 256;
     bool veins = false;            // the default's structure with veins (NoiseParams::veins)
     // Both methods with noise and render seeds 1..seeds, each pair into
     // default-seedS/ and paper-seedS/ (above 1), and D's ratio over them with
