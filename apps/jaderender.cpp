@@ -46,7 +46,6 @@ struct VolumeOptions {
     bool z_up = false;
     jade::NoiseParams noise;
     std::string structure = "photo";
-    std::string veins = "auto";
     std::string match = "joint";
     std::string extinction = jade::to_string(jade::OpticalParams{}.extinction);
     jade::OpticalParams optics;
@@ -98,12 +97,10 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
                    "How fast the warp varies across the layers against along them, 0 to 1: 1 isotropic (folds "
                    "may overturn into rings), 0 every layer folds alike (--structure fbm, with --bands)")
         ->capture_default_str();
-    cmd.add_option("--veins", o.veins,
+    cmd.add_option("--veins", o.noise.veins,
                    "Thin veins through the structure, where a second fBm is near zero: they get the photo's "
-                   "darkest colours, in curves that branch and join as marble's do. 'auto': with --structure "
-                   "photo the estimate chooses whether (clouds with veins are one of its families), with "
-                   "--structure fbm none; 'true': always (the estimate searches their frequency and width "
-                   "in every family); 'false': never")
+                   "darkest colours, in curves that branch and join as marble's do (with --structure photo "
+                   "the estimate then searches their frequency and width too; it does not choose veins by itself)")
         ->capture_default_str();
     cmd.add_option("--vein-frequency", o.noise.vein_frequency,
                    "With --veins: cycles per cube side of the veins' first octave (--structure fbm)")
@@ -156,8 +153,7 @@ int run_volume(VolumeOptions& o) {
     const jade::Stopwatch t_volume;
     const jade::StructureMode structure = jade::parse_structure_mode(o.structure);
     jade::StructureEstimate estimate;
-    const jade::NoiseParams noise =
-        jade::choose_noise(photo, o.noise, structure, jade::parse_veins_choice(o.veins), &estimate);
+    const jade::NoiseParams noise = jade::choose_noise(photo, o.noise, structure, &estimate);
     jade::MaterialVolume volume;
     {
         jade::Progress progress("noise + colour matching", std::size_t(o.noise.resolution));
@@ -691,7 +687,6 @@ int run_pipeline(PipelineFlags& p) {
     o.mask = p.volume.mask;
     o.noise = p.volume.noise;
     o.structure = jade::parse_structure_mode(p.volume.structure);
-    o.veins = jade::parse_veins_choice(p.volume.veins);
     o.match = jade::parse_match_mode(p.volume.match);
     o.optics = p.volume.optics;
     o.optics.extinction = jade::parse_extinction(p.volume.extinction);
@@ -758,7 +753,7 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
     fidelity->add_option("--resolution", fbench.resolution, "Voxels along each side")->capture_default_str();
     fidelity->add_option("--width", fbench.width, "Final render width")->capture_default_str();
     fidelity->add_option("--veins", fbench.veins,
-                         "The default's --veins: auto, true or false (the paper's method has none)")
+                         "The default with --veins (the estimate searches them; the paper's method has none)")
         ->capture_default_str();
     fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
     fidelity->add_option("--spp", fbench.spp,

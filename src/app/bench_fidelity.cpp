@@ -216,7 +216,6 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     if (b.photo.empty() || b.mesh.empty()) throw Error("bench fidelity needs --photo and --mesh");
     if (b.seeds < 1) throw Error("bench fidelity: --seeds must be at least 1");
     if (b.spp < 1) throw Error("bench fidelity: --spp must be at least 1");
-    const VeinsChoice veins = parse_veins_choice(b.veins);
     std::error_code ec;
     fs::create_directories(b.out_dir, ec);
     if (ec) fail_file(b.out_dir, "cannot create the output folder: " + ec.message());
@@ -227,7 +226,7 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     std::vector<SeedDistances> distances;
     for (int seed = 1; seed <= b.seeds; ++seed) {
         PipelineOptions defaults = common_options(b, "default", seed);
-        defaults.veins = veins;
+        defaults.noise.veins = b.veins;
         const PipelineResult def = run_pipeline(defaults);
         const PipelineResult paper = run_pipeline(paper_options(b, seed));
         if (b.seeds > 1) std::printf("\nseed %d:", seed);

@@ -44,7 +44,7 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     }
     const Stopwatch clock;
     res.structure_estimated = o.structure == StructureMode::Photo;
-    const NoiseParams noise = choose_noise(photo, o.noise, o.structure, o.veins, &res.structure);
+    const NoiseParams noise = choose_noise(photo, o.noise, o.structure, &res.structure);
     res.seconds_structure = clock.seconds();
     std::unique_ptr<Progress> bar;
     if (o.progress) bar = std::make_unique<Progress>("noise + colour matching", std::size_t(noise.resolution));

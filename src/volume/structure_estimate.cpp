@@ -11,7 +11,6 @@
 #include <cstring>
 #include <map>
 #include <tuple>
-#include <vector>
 
 namespace jade {
 
@@ -22,17 +21,6 @@ StructureMode parse_structure_mode(const std::string& s) {
 }
 
 const char* to_string(StructureMode m) { return m == StructureMode::Fbm ? "fbm" : "photo"; }
-
-VeinsChoice parse_veins_choice(const std::string& s) {
-    if (s == "auto") return VeinsChoice::Auto;
-    if (s == "true" || s == "1" || s == "yes") return VeinsChoice::Yes;
-    if (s == "false" || s == "0" || s == "no") return VeinsChoice::No;
-    throw Error("--veins must be 'auto', 'true' or 'false', got '" + s + "'");
-}
-
-const char* to_string(VeinsChoice v) {
-    return v == VeinsChoice::Auto ? "auto" : v == VeinsChoice::Yes ? "true" : "false";
-}
 
 GrayImage photo_luma(const Photo& photo) {
     GrayImage g;
@@ -97,24 +85,9 @@ struct PhotoTexture {
     std::vector<float> sorted_luma;
 };
 
-// The photo's spectrum, and its coherence and orientation defects at the
-// pixel scale of the candidates' slices (`slice_resolution` pixels per
-// side): both come from gradients between neighbouring pixels, which on a
-// photo of 2048 pixels a side are the grain of its finest eighth of the
-// scales, finer than any slice can have. Marble01 reads a coherence of 0.17
-// at its own pixels and 0.34 box-averaged to 256 a side, its veins' share
-// of the gradients; the spectrum's bands are compared only where both
-// images measure them and need no such step (docs/design.md, "Structure").
-PhotoTexture photo_texture(const Photo& photo, int slice_resolution) {
+PhotoTexture photo_texture(const Photo& photo) {
     const GrayImage g = photo_luma(photo);
-    const double pixels_per_side = photo_pixels_per_side(photo);
-    PhotoTexture t{texture_spectrum(g, pixels_per_side), {}};
-    const int factor = int(pixels_per_side / slice_resolution);
-    if (factor > 1) {
-        const TextureSpectrum coarse = texture_spectrum(box_downsampled(g, factor), pixels_per_side / factor);
-        t.spectrum.coherence = coarse.coherence;
-        t.spectrum.defects = coarse.defects;
-    }
+    PhotoTexture t{texture_spectrum(g, photo_pixels_per_side(photo)), {}};
     for (std::size_t i = 0; i < g.values.size(); ++i)
         if (g.inside(int(i % g.width), int(i / g.width))) t.sorted_luma.push_back(g.values[i]);
     std::sort(t.sorted_luma.begin(), t.sorted_luma.end());
@@ -286,12 +259,12 @@ StructureFit fold_layers(const StructureFit& fit, Evaluations& evaluations) {
 }  // namespace
 
 StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo) {
-    return evaluate(noise, photo_texture(photo, std::min(noise.resolution, kEstimateResolution)));
+    return evaluate(noise, photo_texture(photo));
 }
 
-StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base, VeinsChoice veins) {
+StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base) {
     const Stopwatch clock;
-    const PhotoTexture texture = photo_texture(photo, std::min(base.resolution, kEstimateResolution));
+    const PhotoTexture texture = photo_texture(photo);
     Evaluations evaluations(texture);
     StructureEstimate out;
     out.photo = texture.spectrum;
@@ -302,26 +275,20 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
 
     // Three starts, the paper's fBm, a marble and folded layers, because the
     // families' optima are far apart and coordinate descent would not cross
-    // between them (the layers stay layers: they need bands). Veins are a
-    // family too: a fourth start, clouds with veins, whose descent searches
-    // their frequency and width as well (VeinsChoice::Auto); with
-    // VeinsChoice::Yes every start has them, with No none does.
+    // between them (the layers stay layers: they need bands).
+    // Asked for veins (base.veins), every start has them and the descent
+    // searches their frequency and width too: the measures below do not
+    // choose veins by themselves (docs/design.md, "Structure").
     NoiseParams fbm = paper;
-    fbm.veins = veins == VeinsChoice::Yes;  // with base's vein frequency and width as the descent's start
+    fbm.veins = base.veins;  // with base's vein frequency and width as the descent's start
     NoiseParams marble = fbm;
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
     NoiseParams layered = fbm;
     layered.layers = true, layered.bands = 2.0, layered.warp = 1.0, layered.k = 0.85;
-    std::vector<NoiseParams> starts{fbm, marble, layered};
-    if (veins == VeinsChoice::Auto) {
-        NoiseParams veined = fbm;
-        veined.veins = true;
-        starts.push_back(veined);
-    }
-    StructureFit best_fit = fbm.veins ? evaluations.of(fbm) : out.paper;
+    StructureFit best_fit = base.veins ? evaluations.of(fbm) : out.paper;
     // Each start descends on the spectral measures, then folds its layers
     // with the defects too; the starts are compared on all the measures.
-    for (NoiseParams start : starts) {
+    for (NoiseParams start : {fbm, marble, layered}) {
         start.angle = texture.spectrum.orientation;
         const StructureFit fit = fold_layers(descend(start, evaluations), evaluations);
         if (objective(fit, texture.spectrum, Measures::WithDefects) <
@@ -334,17 +301,11 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     return out;
 }
 
-NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode, VeinsChoice veins,
+NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode,
                          StructureEstimate* estimate) {
-    NoiseParams out = given;
-    if (mode == StructureMode::Fbm) {
-        // The fBm as given: veins only where asked for.
-        out.veins = veins == VeinsChoice::Yes;
-        out.validate();
-        return out;
-    }
     given.validate();
-    StructureEstimate e = estimate_structure(photo, given, veins);
+    if (mode == StructureMode::Fbm) return given;
+    StructureEstimate e = estimate_structure(photo, given);
     if (estimate) *estimate = e;
     return e.chosen.noise;
 }

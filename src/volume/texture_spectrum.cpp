@@ -244,29 +244,6 @@ TextureSpectrum bands_of(const Periodogram& periodogram, int n, double pixels_pe
 
 }  // namespace
 
-GrayImage box_downsampled(const GrayImage& image, int factor) {
-    if (factor < 1) throw Error("internal: box_downsampled needs a factor of at least 1");
-    if (factor == 1) return image;
-    GrayImage out;
-    out.width = image.width / factor, out.height = image.height / factor;
-    out.values.assign(std::size_t(out.width) * out.height, 0.f);
-    out.mask.assign(out.values.size(), 1);
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x) {
-            double sum = 0.0;
-            bool inside = true;
-            for (int v = y * factor; v < (y + 1) * factor; ++v)
-                for (int u = x * factor; u < (x + 1) * factor; ++u) {
-                    sum += image.values[std::size_t(v) * image.width + u];
-                    inside = inside && image.inside(u, v);
-                }
-            const std::size_t i = std::size_t(y) * out.width + x;
-            out.values[i] = float(sum / (double(factor) * factor));
-            out.mask[i] = inside;
-        }
-    return out;
-}
-
 TextureSpectrum texture_spectrum(const GrayImage& image, double pixels_per_side, double noise_variance) {
     const std::array<int, 3> sq = largest_inside_square(image);
     if (sq[2] < 8) return unmeasured(sq[2]);

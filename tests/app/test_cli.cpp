@@ -159,7 +159,6 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
     require_clean_failure(dir, "volume --photo " + demo + " --resolution abc" + out, "--resolution");
     require_clean_failure(dir, "volume --photo " + demo + " --match both" + out, "--match");
     require_clean_failure(dir, "volume --photo " + demo + " --extinction gray-ish" + out, "--extinction");
-    require_clean_failure(dir, "volume --photo " + demo + " --veins maybe" + out, "--veins");
     require_clean_failure(dir, "volume --photo " + demo + " --out " + dir.file("no/such/dir/v.vdb"),
                           "does not exist");
 }

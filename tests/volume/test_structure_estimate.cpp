@@ -71,7 +71,6 @@ TEST_CASE("structure estimate: an oriented fBm's frequency, stretch and angle ar
     REQUIRE(again.coherence == e.chosen.coherence);
     REQUIRE(e.evaluations > 0);
     REQUIRE(got.bands == 0.0);
-    REQUIRE_FALSE(got.veins);  // left to choose (VeinsChoice::Auto), none where the photo has none
     REQUIRE(std::abs(got.angle - truth.angle) < 8.0);
     REQUIRE(got.stretch >= truth.stretch / 2.0);
     REQUIRE(got.stretch <= truth.stretch * 2.0);
@@ -111,7 +110,6 @@ TEST_CASE("structure estimate: folded layers of many thicknesses are told from t
     CAPTURE(got.frequency, got.k, got.stretch, got.angle, got.bands, got.warp, got.layers, e.chosen.distance,
             e.paper.distance);
     REQUIRE(got.layers);
-    REQUIRE_FALSE(got.veins);
     REQUIRE(orientation_difference(got.angle, truth.angle) < 10.0);
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
 }
@@ -128,7 +126,8 @@ TEST_CASE("structure estimate: asked for veins, it recovers their frequency and 
     truth.vein_width = 0.01;
     NoiseParams base;
     base.resolution = 128;
-    const StructureEstimate e = estimate_structure(photo_of(truth), base, VeinsChoice::Yes);
+    base.veins = true;
+    const StructureEstimate e = estimate_structure(photo_of(truth), base);
     const NoiseParams& got = e.chosen.noise;
     CAPTURE(got.frequency, got.k, got.stretch, got.bands, got.vein_frequency, got.vein_width, e.chosen.distance,
             e.paper.distance);
@@ -142,64 +141,6 @@ TEST_CASE("structure estimate: asked for veins, it recovers their frequency and 
     REQUIRE(got.vein_width >= truth.vein_width / 2.0);
     REQUIRE(got.vein_width <= truth.vein_width * 2.0);
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
-}
-
-TEST_CASE("structure estimate: left to choose, it finds veins where the photo has them", "[structure]") {
-    // The veined clouds above, and the estimate left to choose whether there
-    // are veins (VeinsChoice::Auto: clouds with veins are a fourth start).
-    // Their spectrum alone would not choose them (a vein and grain of one
-    // scale have one spectrum); their local coherence does.
-    NoiseParams truth;
-    truth.resolution = 128;
-    truth.seed = 9;
-    truth.frequency = 4.0;
-    truth.k = 0.5;
-    truth.veins = true;
-    truth.vein_frequency = 1.41;
-    truth.vein_width = 0.01;
-    NoiseParams base;
-    base.resolution = 128;
-    const StructureEstimate e = estimate_structure(photo_of(truth), base);
-    const NoiseParams& got = e.chosen.noise;
-    CAPTURE(got.frequency, got.k, got.bands, got.layers, got.vein_frequency, got.vein_width, e.chosen.distance,
-            e.chosen.coherence, e.photo.coherence);
-    REQUIRE(got.veins);
-    CHECK(got.vein_frequency >= truth.vein_frequency / 2.0);
-    CHECK(got.vein_frequency <= truth.vein_frequency * 2.0);
-    // And told "never", the estimate has none.
-    REQUIRE_FALSE(estimate_structure(photo_of(truth), base, VeinsChoice::No).chosen.noise.veins);
-}
-
-TEST_CASE("structure estimate: the photo's coherence is read at the slices' pixel scale", "[structure]") {
-    // A photo of 512 pixels a side, stripes 32 pixels apart under white
-    // noise of σ 40 per pixel: the noise sets the gradients between the
-    // photo's own pixels, the stripes those between the 128-voxel slices'
-    // (4 photo pixels a voxel), which the estimate compares with the photo.
-    Photo photo;
-    photo.width = photo.height = 512;
-    std::uint64_t state = 11;
-    auto normal = [&] {  // Box–Muller on a 64-bit LCG's top bits
-        auto unit = [&] {
-            state = state * 6364136223846793005ull + 1442695040888963407ull;
-            return (double(state >> 11) + 0.5) / 9007199254740992.0;
-        };
-        const double u1 = unit(), u2 = unit();
-        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979 * u2);
-    };
-    for (int y = 0; y < 512; ++y)
-        for (int x = 0; x < 512; ++x) {
-            const double v = 128.0 + 50.0 * std::sin(2.0 * 3.14159265358979 * x / 32.0) + 40.0 * normal();
-            const auto l = std::uint8_t(std::clamp(std::lround(v), 0l, 255l));
-            photo.levels.push_back({l, l, l});
-        }
-    photo.foreground.assign(photo.levels.size(), 1);
-    NoiseParams base;
-    base.resolution = 128;
-    const StructureEstimate e = estimate_structure(photo, base, VeinsChoice::No);
-    const double native = texture_spectrum(photo_luma(photo), 512.0).coherence;
-    CAPTURE(native, e.photo.coherence, e.chosen.coherence, e.chosen.noise.bands);
-    CHECK(native < 0.3);
-    CHECK(e.photo.coherence > 0.7);
 }
 
 TEST_CASE("structure estimate: folds that never turn back are told from folds overturned into rings",

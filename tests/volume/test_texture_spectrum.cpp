@@ -161,37 +161,6 @@ TEST_CASE("cross spectrum: the bands under the noise are flagged, and compared a
     }
 }
 
-TEST_CASE("box downsampling: pixel grain averages out and the stripes' coherence returns", "[spectrum]") {
-    // Stripes 32 pixels apart under white noise of σ 40: a central
-    // difference of the noise has σ 28, the stripes' at most 50 · 2π / 32 ≈
-    // 10, so the gradients point every way; over 4 × 4 blocks the noise
-    // falls to σ 10 (its differences' to 7) and the stripes' rises to ≈ 39,
-    // and the gradients line up across the stripes.
-    const GrayImage fine = sinusoid(512, 16.0, 0.0, 40.0);
-    const GrayImage coarse = box_downsampled(fine, 4);
-    REQUIRE(coarse.width == 128);
-    REQUIRE(coarse.height == 128);
-    double sum_fine = 0.0, sum_coarse = 0.0;
-    for (float v : fine.values) sum_fine += v;
-    for (float v : coarse.values) sum_coarse += v;
-    CHECK(sum_coarse / coarse.values.size() == Approx(sum_fine / fine.values.size()).epsilon(1e-6));
-    const double c_fine = texture_spectrum(fine, 512.0).coherence;
-    const double c_coarse = texture_spectrum(coarse, 128.0).coherence;
-    CAPTURE(c_fine, c_coarse);
-    CHECK(c_fine < 0.3);
-    CHECK(c_coarse > 0.7);
-    // A block holding one pixel outside the texture is outside.
-    GrayImage masked = fine;
-    masked.mask.assign(fine.values.size(), 1);
-    masked.mask[std::size_t(5) * 512 + 6] = 0;
-    const GrayImage m = box_downsampled(masked, 4);
-    CHECK_FALSE(m.inside(1, 1));
-    CHECK(m.inside(0, 0));
-    CHECK(m.inside(2, 1));
-    // Factor 1 is the image itself.
-    CHECK(box_downsampled(fine, 1).values == fine.values);
-}
-
 TEST_CASE("structure distance: zero for one structure, large for another scale", "[spectrum]") {
     const TextureSpectrum a = texture_spectrum(sinusoid(256, 20.0, 0.0, 5.0), 256.0);
     const TextureSpectrum b = texture_spectrum(sinusoid(256, 20.0, 60.0, 5.0), 256.0);

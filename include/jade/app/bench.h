@@ -87,7 +87,7 @@ struct FidelityBenchOptions {
     // their material (--measure-material): the render structure distance's
     // bands under the noise (TextureSpectrum::below_noise) fall with it.
     int spp = 256;
-    std::string veins = "auto";    // the default's --veins (parse_veins_choice)
+    bool veins = false;            // the default's structure with veins (NoiseParams::veins)
     // Both methods with noise and render seeds 1..seeds, each pair into
     // default-seedS/ and paper-seedS/ (above 1), and D's ratio over them with
     // its standard error: one seed's pattern against the form's shading moves

@@ -25,7 +25,6 @@ struct PipelineOptions {
                                       // photo (its d_s, d_a, density scale and noise are kept)
     NoiseParams noise;                // the paper's fBm, or the resolution and seed for an estimate
     StructureMode structure = StructureMode::Photo;
-    VeinsChoice veins = VeinsChoice::Auto;  // with --structure photo, the estimate chooses
     MatchMode match = MatchMode::Joint;
     OpticalParams optics;             // for a volume built from the photo
     FitOptions fit;

@@ -20,13 +20,6 @@ enum class StructureMode { Fbm, Photo };
 StructureMode parse_structure_mode(const std::string& s);  // "fbm" | "photo"; throws jade::Error
 const char* to_string(StructureMode m);
 
-// Whether the structure has veins (NoiseParams::veins): chosen by the
-// estimate, as one family among the others (auto), or always, or never.
-// With --structure fbm, auto means none.
-enum class VeinsChoice { Auto, Yes, No };
-VeinsChoice parse_veins_choice(const std::string& s);  // "auto" | "true" | "false"; throws jade::Error
-const char* to_string(VeinsChoice v);
-
 // The photo's luma as a texture (its foreground as the mask), and how many of
 // its pixels span the cube side: the larger side of the foreground's bounding
 // box (a slab photo spans the side it shows).
@@ -59,18 +52,16 @@ struct StructureEstimate {
     int evaluations = 0;   // candidate structures evaluated (two matched slices each), repeats not counted
 };
 // Searches f_0, k, r, the bands b and their warp a (coordinate descent over fixed grids, from the
-// paper's fBm, a marble, folded layers (NoiseParams::layers) and, with VeinsChoice::Auto, clouds
-// with veins) with the angle taken from the photo's orientation, then the bands' fold and warp
-// together over their whole grid; where a start has veins, their frequency and width too.
-// `base` gives the resolution, octaves and seed, and the veins' frequency and width to start from.
-StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base,
-                                     VeinsChoice veins = VeinsChoice::Auto);
+// paper's fBm, a marble and folded layers, NoiseParams::layers) with the angle taken from the
+// photo's orientation, then the bands' fold and warp together over their whole grid. `base`
+// gives the resolution, octaves and seed, and whether the structure has veins
+// (NoiseParams::veins; then their frequency and width are searched too).
+StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base);
 
-// The noise a volume is built with: `given` itself for the paper's fBm (with
-// veins only for VeinsChoice::Yes), or its resolution, octaves and seed with
-// the structure estimated from the photo. The estimate (when made) is left
-// in `estimate`.
-NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode, VeinsChoice veins,
+// The noise a volume is built with: `given` itself for the paper's fBm, or
+// its resolution, octaves and seed with the structure estimated from the
+// photo. The estimate (when made) is left in `estimate`.
+NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode,
                          StructureEstimate* estimate = nullptr);
 
 }  // namespace jade

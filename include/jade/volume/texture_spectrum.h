@@ -24,11 +24,6 @@ struct GrayImage {
     bool inside(int x, int y) const { return mask.empty() || mask[std::size_t(y) * width + x]; }
 };
 
-// `image` averaged over blocks of factor × factor pixels (the last partial
-// row and column of blocks dropped); a block belongs to the texture when all
-// its pixels do. `factor` 1 gives the image itself.
-GrayImage box_downsampled(const GrayImage& image, int factor);
-
 // The largest axis-aligned square of texture pixels: {x0, y0, side}; side 0
 // when there is none. The spectrum is measured there, so that the edges of an
 // object's silhouette do not count as structure.
