@@ -888,7 +888,11 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
         jac.update({st.k[c] - st.k_prev[c], g - st.g_prev[c]},
                    {residual[0] - st.residual_prev[c][0], residual[1] - st.residual_prev[c][1]}, kJacobianMinChange);
     else if (!(jac.m[1][1] > 0.0))
-        jac.m[1][1] = s > 0.0 && g > 0.0 ? s / g : std::max(s_photo, 1.0);
+        // S ∝ g, so dS/dg = S/g, except where S is the rounding of a flat
+        // material (under kSpreadScatterFloor's level): a slope of 10⁻⁷
+        // there sent g to a quarter at every step on a one-colour photo,
+        // whose contrast moves nothing.
+        jac.m[1][1] = s * s > kSpreadScatterFloor && g > 0.0 ? s / g : std::max(s_photo, 1.0);
     st.k_prev[c] = st.k[c];
     st.g_prev[c] = g;
     st.residual_prev[c] = residual;

@@ -777,6 +777,12 @@ TEST_CASE("pipeline: flat, tiny, dark, white and clipped photos end with explain
             CHECK_THAT(r.err, Catch::Contains("warning: fit:"));
         else
             CHECK_THAT(r.out, Catch::Contains("|dA| < 1 and |dS| < 1.5 in every channel"));
+        // One colour: the volume is flat and the contrast has nothing to
+        // spread, so it stays at 1 (it once fell to 0.06 by quarters,
+        // following S's rounding).
+        const std::vector<double> g = json_numbers(slurp(dir.file(std::string(p.name) + "-out/report.json")), "contrast", 3);
+        REQUIRE(g.size() == 3);
+        for (double x : g) CHECK(x == Approx(1.0).margin(1e-3));
     }
 }
 
