@@ -153,8 +153,9 @@ Appearance compare_appearance(const RgbHistogram& photo_histogram, const Texture
     return a;
 }
 
-SpreadReading read_spread(const MaterialSpread& spread, const std::array<double, 3>& photo_spread, int c) {
-    const double larger = std::max(photo_spread[c], spread.s[c]);
+SpreadReading read_spread(const MaterialSpread& spread, const std::array<double, 3>& photo_spread, int c,
+                          double s_tolerance) {
+    const double larger = std::max({photo_spread[c], spread.s[c], s_tolerance});
     SpreadReading r;
     r.noise_limit = kSpreadNoiseShare * larger;
     r.scatter_limit = std::max(kSpreadScatterShare * larger * larger, kSpreadScatterFloor);

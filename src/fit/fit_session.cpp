@@ -768,7 +768,7 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
     st.block = q.block;
     st.s_photo = q.photo_spread;
     for (int c = 0; c < 3; ++c) {
-        const SpreadReading r = read_spread(q.spread, q.photo_spread, c);
+        const SpreadReading r = read_spread(q.spread, q.photo_spread, c, options_.s_tolerance);
         st.spread_seen[c] = r.readable();
         outcome_.contrast_fitted[c] = st.spread_seen[c];
         if (st.spread_seen[c]) continue;

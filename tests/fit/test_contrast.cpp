@@ -265,6 +265,7 @@ TEST_CASE("read spread: the fit's first steps that showed S, and those whose sea
     // scatter was not measured: 0 here, the noise alone decides), and on the
     // vase the noise passes (4.29 against 4.30) but S² scatters by 0.38 of
     // the photo's S², and green's S read 0 to 6.4 levels from step to step.
+    const double kTolerance = FitOptions{}.s_tolerance;
     struct Case {
         const char* name;
         double noise, s, scatter, photo;
@@ -281,24 +282,39 @@ TEST_CASE("read spread: the fit's first steps that showed S, and those whose sea
         m.noise[0] = k.noise;
         m.s[0] = k.s;
         m.scatter[0] = k.scatter;
-        const SpreadReading r = read_spread(m, {k.photo, 0.0, 0.0}, 0);
+        const SpreadReading r = read_spread(m, {k.photo, 0.0, 0.0}, 0, kTolerance);
         CHECK(r.quiet == k.quiet);
         CHECK(r.steady == k.steady);
         CHECK(r.readable() == (k.quiet && k.steady));
     }
     // A flat photo on a flat volume: nothing spreads, and S²'s scatter is
-    // rounding; it is read (S 0 against 0), not refused.
+    // rounding; it is read (S 0 against 0), not refused. Spreads under the
+    // S tolerance are read as if at it: a one-colour dark photo (levels 6,
+    // 5, 4) on the cow at full size had 0.02 levels of noise over 8-px
+    // blocks, more than twice its spread of 0, and was called hidden.
     MaterialSpread flat;
     flat.scatter[0] = 1e-9;
-    CHECK(read_spread(flat, {0.0, 0.0, 0.0}, 0).readable());
-    flat.scatter[0] = 0.05;
-    CHECK_FALSE(read_spread(flat, {0.0, 0.0, 0.0}, 0).readable());
+    CHECK(read_spread(flat, {0.0, 0.0, 0.0}, 0, kTolerance).readable());
+    flat.noise[0] = 0.02;
+    CHECK(read_spread(flat, {0.0, 0.0, 0.0}, 0, kTolerance).readable());
+    // Within the tolerance's limits (noise 2 × 1.5, S² scatter 0.2 × 1.5²)
+    // and beyond them.
+    flat.noise[0] = 2.9;
+    flat.scatter[0] = 0.44;
+    CHECK(read_spread(flat, {0.5, 0.0, 0.0}, 0, kTolerance).readable());
+    flat.noise[0] = 3.1;
+    CHECK_FALSE(read_spread(flat, {0.5, 0.0, 0.0}, 0, kTolerance).quiet);
+    flat.noise[0] = 2.9;
+    flat.scatter[0] = 0.46;
+    CHECK_FALSE(read_spread(flat, {0.5, 0.0, 0.0}, 0, kTolerance).steady);
     // The render's own S counts where it is the larger.
     MaterialSpread m;
-    m.noise[0] = 3.0;
+    m.noise[0] = 3.9;
     m.s[0] = 2.0;
     m.scatter[0] = 0.5;
-    CHECK(read_spread(m, {1.0, 0.0, 0.0}, 0).readable());
+    CHECK(read_spread(m, {1.0, 0.0, 0.0}, 0, kTolerance).readable());
+    m.s[0] = 1.0;
+    CHECK_FALSE(read_spread(m, {1.0, 0.0, 0.0}, 0, kTolerance).readable());
 }
 
 TEST_CASE("material D: the shading divides out of the histogram distance", "[fitter][contrast]") {

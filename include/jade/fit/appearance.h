@@ -91,14 +91,19 @@ constexpr double kSpreadScatterFloor = 0.01;
 // Whether the fit's renders show channel c's S_material over their block
 // (FitSession::choose_spread_block): its noise at most kSpreadNoiseShare
 // times, and S²'s scatter at most kSpreadScatterShare times the square of
-// (or kSpreadScatterFloor), the larger of the photo's spread there and the
-// render's.
+// (or kSpreadScatterFloor), the larger of the photo's spread there, the
+// render's, and the fit's S tolerance. Spreads under the tolerance are read
+// as if at it: the fit needs S only to within the tolerance, and against a
+// one-colour photo's spread of 0 any noise at all (0.02 levels on a dark one)
+// was more than twice it, so the contrast was called hidden in the noise of a
+// render that had none to speak of.
 struct SpreadReading {
     double noise_limit = 0.0, scatter_limit = 0.0;
     bool quiet = false, steady = false;  // noise, scatter within their limits
     bool readable() const { return quiet && steady; }
 };
-SpreadReading read_spread(const MaterialSpread& spread, const std::array<double, 3>& photo_spread, int c);
+SpreadReading read_spread(const MaterialSpread& spread, const std::array<double, 3>& photo_spread, int c,
+                          double s_tolerance);
 
 // Where even the largest block is not quiet: the samples per pixel at which
 // the render's noise, `noise` at `spp`, falls to `limit`, taken to fall as
