@@ -773,11 +773,18 @@ MaterialSpread FitSession::choose_spread_block(ContrastSearch& st, const StepRen
         outcome_.contrast_fitted[c] = st.spread_seen[c];
         if (st.spread_seen[c]) continue;
         // The scatter is of a square of levels: it falls as the noise
-        // squared, and spp_for_noise takes its root.
-        const int spp = r.quiet ? spp_for_noise(spread_spp(), std::sqrt(q.spread.scatter[c]), std::sqrt(r.scatter_limit))
-                                : spp_for_noise(spread_spp(), q.spread.noise[c], r.noise_limit);
+        // squared, and spp_for_noise takes its root. No count is named
+        // where both spreads are under the S tolerance: more samples would
+        // resolve a difference the fit does not need, and the photo has no
+        // contrast at this scale to give the volume (a pattern finer than
+        // the blocks: its search would flatten the stone).
+        const bool both_small = std::max(q.photo_spread[c], q.spread.s[c]) < options_.s_tolerance;
+        const int spp = both_small ? 0
+                        : r.quiet  ? spp_for_noise(spread_spp(), std::sqrt(q.spread.scatter[c]),
+                                                   std::sqrt(r.scatter_limit))
+                                   : spp_for_noise(spread_spp(), q.spread.noise[c], r.noise_limit);
         outcome_.spread_spp_advised = std::max(outcome_.spread_spp_advised, spp);
-        st.hidden_warnings.push_back(hidden_spread_warning(c, q, st.g[c], r.quiet, spp));
+        st.hidden_warnings.push_back(hidden_spread_warning(c, q, st.g[c], r, spp));
     }
     return q.spread;
 }
@@ -812,23 +819,26 @@ bool FitSession::raise_spread_spp(ContrastSearch& st) {
 // The warning for a channel whose S_material the fit's renders cannot show
 // (choose_spread_block): too noisy over the largest block, or S² scattering
 // too far between renders; with the --fit-spread-spp that would show it.
-std::string FitSession::hidden_spread_warning(int c, const QuietBlock& q, double g, bool quiet, int spp) const {
-    char why[400], advice[160] = "";
-    if (quiet)
+std::string FitSession::hidden_spread_warning(int c, const QuietBlock& q, double g, const SpreadReading& r,
+                                             int spp) const {
+    char why[520], advice[160] = "";
+    if (r.quiet)
         std::snprintf(why, sizeof why,
                       "%s: the contrast was not fitted: over %d-px blocks S_material² scatters by %.2f levels² "
-                      "from one of the fit's renders to the next at %d spp, more than %g times the square of the "
-                      "photo's spread there (%.1f) or the render's (%.1f), so a search on it would follow the "
-                      "noise; the contrast stays at %.3g and k_s matches A alone",
-                      channel_name(c), q.block, q.spread.scatter[c], spread_spp(), kSpreadScatterShare,
-                      q.photo_spread[c], q.spread.s[c], g);
+                      "from one of the fit's renders to the next at %d spp, more than %.2f (%g times the square of "
+                      "the largest of the photo's spread there, %.1f, the render's, %.1f, and the S tolerance, "
+                      "%.1f), so a search on it would follow the noise; the contrast stays at %.3g and k_s matches "
+                      "A alone",
+                      channel_name(c), q.block, q.spread.scatter[c], spread_spp(), r.scatter_limit,
+                      kSpreadScatterShare, q.photo_spread[c], q.spread.s[c], options_.s_tolerance, g);
     else
         std::snprintf(why, sizeof why,
                       "%s: the contrast was not fitted: the fit's renders' noise over %d-px blocks (%.1f levels at "
-                      "%d spp) is more than %g times both the photo's spread there (%.1f) and the render's (%.1f), so "
-                      "S_material cannot be told from it; the contrast stays at %.3g and k_s matches A alone",
-                      channel_name(c), q.block, q.spread.noise[c], spread_spp(), kSpreadNoiseShare,
-                      q.photo_spread[c], q.spread.s[c], g);
+                      "%d spp) is more than %.1f (%g times the largest of the photo's spread there, %.1f, the "
+                      "render's, %.1f, and the S tolerance, %.1f), so S_material cannot be told from it; the "
+                      "contrast stays at %.3g and k_s matches A alone",
+                      channel_name(c), q.block, q.spread.noise[c], spread_spp(), r.noise_limit, kSpreadNoiseShare,
+                      q.photo_spread[c], q.spread.s[c], options_.s_tolerance, g);
     if (spp > 0)
         std::snprintf(advice, sizeof advice,
                       " (--fit-spread-spp %d would show it; each contrast step renders two images at it)", spp);

@@ -232,7 +232,7 @@ private:
     void fit_contrast();
     MaterialSpread choose_spread_block(ContrastSearch& search, const StepRenders& step);
     bool raise_spread_spp(ContrastSearch& search);
-    std::string hidden_spread_warning(int c, const QuietBlock& q, double g, bool quiet, int spp) const;
+    std::string hidden_spread_warning(int c, const QuietBlock& q, double g, const SpreadReading& r, int spp) const;
     void finish_contrast(const ContrastSearch& search);
     void contrast_step(ContrastSearch& search, int channel, double delta, double s);
     void raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
