@@ -272,6 +272,15 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0, paper.veins = false;
     paper.layers = false;
     out.paper = evaluations.of(paper);
+    // A photo with no measured power in any band (one colour) has no
+    // structure to match: every candidate's distance to it is undefined,
+    // and the search would spend its minutes to keep the paper's fBm.
+    if (std::none_of(texture.spectrum.power.begin(), texture.spectrum.power.end(), [](double p) { return p > 0.0; })) {
+        out.chosen = out.paper;
+        out.seconds = clock.seconds();
+        out.evaluations = evaluations.count();
+        return out;
+    }
 
     // Three starts, the paper's fBm, a marble and folded layers, because the
     // families' optima are far apart and coordinate descent would not cross

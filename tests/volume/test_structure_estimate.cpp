@@ -191,3 +191,21 @@ TEST_CASE("structure estimate: the fold and the warp are found together", "[stru
     CHECK(got.warp <= 2.0);
     CHECK(e.chosen.distance < 0.5 * e.paper.distance);
 }
+
+TEST_CASE("structure estimate: a one-colour photo keeps the paper's fBm without a search", "[structure]") {
+    // No band has power, so no candidate's distance to the photo is defined:
+    // the paper's fBm is kept after its own evaluation alone (and a photo
+    // with structure is searched: the cases above).
+    NoiseParams base;
+    base.resolution = 64;
+    Photo p;
+    p.width = p.height = 64;
+    p.levels.assign(64 * 64, Rgb8{120, 160, 110});
+    p.foreground.assign(p.levels.size(), 1);
+    const StructureEstimate e = estimate_structure(p, base);
+    CHECK(e.evaluations == 1);
+    CHECK(e.chosen.noise.frequency == 1.0);
+    CHECK(e.chosen.noise.bands == 0.0);
+    CHECK_FALSE(e.chosen.noise.layers);
+    CHECK(e.chosen.distance == e.paper.distance);
+}
