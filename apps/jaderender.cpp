@@ -113,6 +113,13 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
                    "With --bands: a 1-D fBm across the layers (its octaves' amplitude ratio --k) instead of the "
                    "sine, so the layers have many thicknesses, folded by the paper's smooth fBm")
         ->capture_default_str();
+    cmd.add_option("--sharpen", o.noise.sharpen,
+                   "Unsharp mask on the matched levels, v + amount (v - Gaussian blur of v): fine structure "
+                   "(veins) stronger, so that more of it survives the light's diffusion; 0 = none (the paper's)")
+        ->capture_default_str();
+    cmd.add_option("--sharpen-radius", o.noise.sharpen_radius,
+                   "With --sharpen: the blur's standard deviation, voxels")
+        ->capture_default_str();
     cmd.add_option("--seed", o.noise.seed, "Noise seed")->capture_default_str();
     cmd.add_option("--match", o.match, "Colour matching: 'joint' (real photo colours) or "
                                        "'per-channel' (the paper's)")

@@ -263,6 +263,8 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:vein_frequency", openvdb::DoubleMetadata(v.noise.vein_frequency));
     meta.insertMeta("jade:vein_width", openvdb::DoubleMetadata(v.noise.vein_width));
     meta.insertMeta("jade:layers", openvdb::Int32Metadata(v.noise.layers ? 1 : 0));
+    meta.insertMeta("jade:sharpen", openvdb::DoubleMetadata(v.noise.sharpen));
+    meta.insertMeta("jade:sharpen_radius", openvdb::DoubleMetadata(v.noise.sharpen_radius));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
     meta.insertMeta("jade:extinction", openvdb::StringMetadata(to_string(v.optics.extinction)));
     meta.insertMeta("jade:ds", openvdb::DoubleMetadata(v.optics.ds));
@@ -435,6 +437,10 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:vein_frequency"))
         v.noise.vein_frequency = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:vein_width")) v.noise.vein_width = m->value();
+    // Files from before the sharpening were not sharpened.
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:sharpen")) v.noise.sharpen = m->value();
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:sharpen_radius"))
+        v.noise.sharpen_radius = m->value();
     // Files from before the layers have none.
     if (meta.getMetadata<openvdb::Int32Metadata>("jade:layers") ||
         meta.getMetadata<openvdb::Int64Metadata>("jade:layers")) {

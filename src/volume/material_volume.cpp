@@ -1,5 +1,7 @@
 #include "jade/volume/material_volume.h"
 
+#include "jade/volume/sharpen.h"
+
 #include "jade/core/error.h"
 #include "jade/core/progress.h"
 
@@ -150,6 +152,7 @@ MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& nois
             if (progress) progress->advance();
         }
     });
+    sharpen_levels(vol.levels, s, noise.sharpen, noise.sharpen_radius);
     vol.optics.mean_level = mean_levels(vol.levels);
     return vol;
 }

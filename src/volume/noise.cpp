@@ -32,6 +32,11 @@ std::string NoiseParams::family_suffix() const {
         std::snprintf(buf, sizeof buf, ", veins (frequency %.2f, width %.4g)", vein_frequency, vein_width);
         s += buf;
     }
+    if (sharpen > 0.0) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, ", sharpened (%.3g over %.3g voxels)", sharpen, sharpen_radius);
+        s += buf;
+    }
     return s;
 }
 
@@ -62,6 +67,10 @@ void NoiseParams::validate() const {
                     std::to_string(vein_frequency));
     if (!(vein_width > 0.0 && vein_width <= 0.5))
         throw Error("--vein-width must lie above 0 and at most 0.5, got " + std::to_string(vein_width));
+    if (!(sharpen >= 0.0 && sharpen <= 16.0))
+        throw Error("--sharpen must be between 0 (none) and 16, got " + std::to_string(sharpen));
+    if (!(sharpen_radius >= 0.25 && sharpen_radius <= 16.0))
+        throw Error("--sharpen-radius must be between 0.25 and 16 voxels, got " + std::to_string(sharpen_radius));
     if (layers && !(bands > 0.0))
         throw Error("--layers needs --bands above 0, the layers per cube side of the profile's first octave "
                     "(with --structure photo the estimate searches layers by itself)");

@@ -116,8 +116,8 @@ TEST_CASE("--help documents the flags and exits 0", "[cli]") {
     CHECK(r.code == 0);
     for (const char* flag : {"--photo", "--mask", "--resolution", "--structure", "--octaves", "--k",
                              "--frequency", "--stretch", "--angle", "--bands", "--warp", "--fold", "--veins",
-                             "--vein-frequency", "--vein-width", "--layers", "--seed", "--match", "--ds", "--da",
-                             "--out"})
+                             "--vein-frequency", "--vein-width", "--layers", "--sharpen", "--sharpen-radius", "--seed",
+                             "--match", "--ds", "--da", "--out"})
         CHECK_THAT(r.out, Catch::Contains(flag));
     // The top level reads as sections, and ends with an example that works.
     const Result top = run(dir, "--help");
@@ -169,6 +169,9 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
                           "mask.png");
 
     require_clean_failure(dir, "volume --photo " + demo + " --k 2" + out, "--k");
+    require_clean_failure(dir, "volume --photo " + demo + " --sharpen -1" + out, "--sharpen must be between 0");
+    require_clean_failure(dir, "volume --photo " + demo + " --sharpen 2 --sharpen-radius 0" + out,
+                          "--sharpen-radius must be between 0.25");
     require_clean_failure(dir, "volume --photo " + demo + " --resolution abc" + out, "--resolution");
     require_clean_failure(dir, "volume --photo " + demo + " --match both" + out, "--match");
     require_clean_failure(dir, "volume --photo " + demo + " --extinction gray-ish" + out, "--extinction");

@@ -67,6 +67,8 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.warp == b.noise.warp);
     CHECK(a.noise.fold == b.noise.fold);
     CHECK(a.noise.veins == b.noise.veins);
+    CHECK(a.noise.sharpen == b.noise.sharpen);
+    CHECK(a.noise.sharpen_radius == b.noise.sharpen_radius);
     CHECK(a.noise.vein_frequency == b.noise.vein_frequency);
     CHECK(a.noise.vein_width == b.noise.vein_width);
     CHECK(a.noise.layers == b.noise.layers);
@@ -241,6 +243,7 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     marble.veins = GENERATE(false, true);
     marble.layers = GENERATE(false, true);
     marble.vein_frequency = 2.83, marble.vein_width = 0.01;  // not the defaults, so a lost value shows
+    marble.sharpen = 1.5, marble.sharpen_radius = 0.8;  // likewise
     MaterialVolume v = sample_volume(16, OpticalParams{}, marble);
     v.structure = StructureMode::Photo;
     write_material_vdb(dir.file("v.vdb"), v);

@@ -63,11 +63,18 @@ struct NoiseParams {
     bool layers = false;     // with bands > 0: a 1-D fBm profile across the layers instead of the sine
     double fold = 1.0;       // ε in [0, 1], with bands > 0: how fast the warp varies across the layers
                              // relative to along them; 1 = isotropic, 0 = every layer folds alike
+    // The unsharp mask build_material_volume applies to the matched levels
+    // (volume/sharpen.h): β >= 0 (0 = none, the paper's volume) and the
+    // Gaussian's standard deviation in voxels. Not noise, but part of how
+    // the stored levels were made, so it travels with these parameters.
+    double sharpen = 0.0;
+    double sharpen_radius = 1.0;
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;
     // The summary lines' tail for the families beyond the fBm and the marble:
-    // ", layers" and ", veins (frequency F, width W)"; empty for neither.
+    // ", layers", ", fold E", ", veins (frequency F, width W)" and
+    // ", sharpened (B over R voxels)"; empty for none.
     std::string family_suffix() const;
     // Throws jade::Error naming the parameter when one is out of range.
     void validate() const;

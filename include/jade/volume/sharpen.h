@@ -1,0 +1,30 @@
+#pragma once
+// Unsharp masking of the matched levels (docs/design.md, "Sharpening"):
+//
+//   v' = clamp(v + β (v − G_r ∗ v), 0, 255)    per channel, G_r a 3D Gaussian of r voxels
+//
+// Light leaves a translucent stone about a diffusion length from where it
+// entered, so a render shows the volume blurred: the finest structure (a
+// marble's veins, one or two voxels wide at 256³) fades first, while the
+// coarse clouds keep their contrast and, with it, the spread the fit matches.
+// The mask raises each spatial frequency f (cycles per voxel) of the levels
+// by 1 + β (1 − Ĝ(f)), Ĝ(f) ≈ exp(−2π² r² f²), and leaves the mean and
+// the coarse structure as they were: the fine structure is made stronger in
+// the volume so that more of it survives the transport. β = 0 is the
+// paper's volume.
+
+#include "jade/core/image.h"
+
+#include <array>
+#include <vector>
+
+namespace jade {
+
+// Sharpens `levels` (s³ voxels, index (z·s + y)·s + x) in place by β =
+// `amount` with a Gaussian of standard deviation `radius` voxels (cut at
+// three of them; the edges repeat their last voxel). Returns per channel
+// the share of voxels the result clipped to level 0 or 255. Deterministic
+// whatever the thread count.
+std::array<double, 3> sharpen_levels(std::vector<Rgb8>& levels, int resolution, double amount, double radius);
+
+}  // namespace jade
