@@ -9,6 +9,7 @@
 #include "jade/io/image_io.h"
 #include "jade/volume/material_volume.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/sharpen.h"
 #include "jade/app/pipeline.h"
 #include "jade/core/progress.h"
 #include "jade/app/job.h"
@@ -166,6 +167,8 @@ int run_volume(VolumeOptions& o) {
         jade::Progress progress("noise + colour matching", std::size_t(o.noise.resolution));
         volume = jade::build_material_volume(photo, noise, match, o.optics, &progress);
     }
+    const std::string clipped = jade::sharpening_warning(noise.sharpen, volume.sharpen_clipped);
+    if (!clipped.empty()) std::fprintf(stderr, "jaderender: warning: volume: %s\n", clipped.c_str());
     volume.structure = structure;
     const double volume_s = t_volume.seconds();
 

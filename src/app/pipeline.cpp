@@ -12,6 +12,7 @@
 #include "jade/io/vdb_io.h"
 #include "jade/render/media/grid.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/sharpen.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -49,6 +50,8 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     std::unique_ptr<Progress> bar;
     if (o.progress) bar = std::make_unique<Progress>("noise + colour matching", std::size_t(noise.resolution));
     MaterialVolume volume = build_material_volume(photo, noise, o.match, o.optics, bar.get());
+    const std::string clipped = sharpening_warning(noise.sharpen, volume.sharpen_clipped);
+    if (!clipped.empty()) res.warnings.push_back("volume: " + clipped);
     volume.structure = o.structure;
     volume.cube = cube;
     return volume;

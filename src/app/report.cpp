@@ -172,6 +172,7 @@ nlohmann::json volume_json(const PipelineOptions& o, const MaterialVolume& volum
             {"veins", volume.noise.veins}, {"vein_frequency", volume.noise.vein_frequency},
             {"vein_width", volume.noise.vein_width}, {"layers", volume.noise.layers},
             {"sharpen", volume.noise.sharpen}, {"sharpen_radius", volume.noise.sharpen_radius},
+            {"sharpen_clipped", volume.sharpen_clipped},
             {"match", to_string(volume.match)},
             {"extinction", to_string(volume.optics.extinction)},
             {"ds", volume.optics.ds}, {"da", volume.optics.da},

@@ -152,7 +152,7 @@ MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& nois
             if (progress) progress->advance();
         }
     });
-    sharpen_levels(vol.levels, s, noise.sharpen, noise.sharpen_radius);
+    vol.sharpen_clipped = sharpen_levels(vol.levels, s, noise.sharpen, noise.sharpen_radius);
     vol.optics.mean_level = mean_levels(vol.levels);
     return vol;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 
 namespace jade {
 
@@ -72,6 +73,16 @@ std::array<double, 3> sharpen_levels(std::vector<Rgb8>& levels, int resolution, 
         clipped[std::size_t(c)] = double(clips) / double(n);
     }
     return clipped;
+}
+
+std::string sharpening_warning(double amount, const std::array<double, 3>& clipped) {
+    if (*std::max_element(clipped.begin(), clipped.end()) <= kSharpenClipWarning) return "";
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "--sharpen %.3g clipped %.0f %%, %.0f %% and %.0f %% of the voxels (R, G, B) to level 0 or 255: "
+                  "the clipped structure loses its levels; a smaller --sharpen keeps them",
+                  amount, 100.0 * clipped[0], 100.0 * clipped[1], 100.0 * clipped[2]);
+    return buf;
 }
 
 }  // namespace jade

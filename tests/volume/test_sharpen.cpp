@@ -61,6 +61,7 @@ TEST_CASE("sharpening raises a sinusoid by the Gaussian's transfer function and 
             // against the continuous one (below 0.001 of the amplitude).
             CHECK(worst <= 0.5 * gain + 0.5 + 0.001 * amplitude * beta);
             CHECK(clipped == std::array<double, 3>{0.0, 0.0, 0.0});
+            CHECK(sharpening_warning(beta, clipped).empty());
         }
 }
 
@@ -76,6 +77,11 @@ TEST_CASE("sharpening a step overshoots on both sides and reports the voxels it 
     CHECK(clipped[0] <= 6.0 / kSide);
     CHECK(clipped[1] == 0.0);
     CHECK(clipped[2] == 0.0);
+    // More than 5 % of a channel clipped: the warning names the amount and the shares.
+    const std::string warning = sharpening_warning(1.0, clipped);
+    CHECK_THAT(warning, Catch::Contains("--sharpen 1 clipped"));
+    CHECK_THAT(warning, Catch::Contains(std::to_string(int(std::lround(100.0 * clipped[0]))) + " %"));
+    CHECK(sharpening_warning(1.0, {0.05, 0.0, 0.01}).empty());
     // Far from the step the levels are untouched.
     CHECK(v[index(2, 5, 5)][0] == 0);
     CHECK(v[index(kSide - 3, 5, 5)][0] == 255);

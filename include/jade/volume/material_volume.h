@@ -72,6 +72,10 @@ struct MaterialVolume {
     // what a render of this volume is multiplied by before sRGB to look like
     // the photo. 0 = never fitted.
     double exposure = 0.0;
+    // The share of voxels per channel that the build's sharpening clipped to
+    // level 0 or 255 (volume/sharpen.h; 0 without it, and for a volume read
+    // from a file, which does not store it).
+    std::array<double, 3> sharpen_clipped{0.0, 0.0, 0.0};
 
     std::size_t index(int x, int y, int z) const {
         return (std::size_t(z) * resolution + y) * resolution + x;

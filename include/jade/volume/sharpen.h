@@ -16,6 +16,7 @@
 #include "jade/core/image.h"
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace jade {
@@ -26,5 +27,15 @@ namespace jade {
 // the share of voxels the result clipped to level 0 or 255. Deterministic
 // whatever the thread count.
 std::array<double, 3> sharpen_levels(std::vector<Rgb8>& levels, int resolution, double amount, double radius);
+
+// Above this share of clipped voxels in a channel the sharpening flattens
+// more than it sharpens: a clipped vein or layer loses its own levels, and
+// the fit's contrast then stretches a volume of plateaus (Onyx010 at β = 4:
+// the fit ran to its largest contrast; docs/design.md, "Sharpening").
+constexpr double kSharpenClipWarning = 0.05;
+
+// The warning for a sharpening that clipped more than kSharpenClipWarning
+// of a channel's voxels, naming the shares and --sharpen; empty otherwise.
+std::string sharpening_warning(double amount, const std::array<double, 3>& clipped);
 
 }  // namespace jade
