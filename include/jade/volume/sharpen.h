@@ -29,9 +29,9 @@ namespace jade {
 std::array<double, 3> sharpen_levels(std::vector<Rgb8>& levels, int resolution, double amount, double radius);
 
 // Above this share of clipped voxels in a channel the sharpening flattens
-// more than it sharpens: a clipped vein or layer loses its own levels, and
-// the fit's contrast then stretches a volume of plateaus (Onyx010 at β = 4:
-// the fit ran to its largest contrast; docs/design.md, "Sharpening").
+// what it meant to raise: a clipped vein or layer loses its own levels
+// (Onyx010's layers at β = 4 clip 6–9 %, and the fit of that volume ran to
+// its largest contrast; at β = 2 under 5 %; docs/design.md, "Sharpening").
 constexpr double kSharpenClipWarning = 0.05;
 
 // The warning for a sharpening that clipped more than kSharpenClipWarning
