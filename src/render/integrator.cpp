@@ -332,8 +332,9 @@ Integrator::Walk Integrator::walk_sphere(PathState& s) const {
     const float phi = 2.f * kPi * s.rng.uniform();
     const float c = std::cos(phi), sn = std::sin(phi);
     const float r = float(SphereExitTables::radius(level)) / sigma_t[h];
-    s.o += r * sphere_exit_to_world(e.point, s.d, c, sn);
-    s.d = glm::normalize(sphere_exit_to_world(e.direction, s.d, c, sn));
+    const SphereExitFrame frame(s.d, c, sn);
+    s.o += r * frame.to_world(e.point);
+    s.d = glm::normalize(frame.to_world(e.direction));
     if (e.collisions > 0.0) {
         s.straight = false;
         s.chain.lose();

@@ -124,6 +124,24 @@ TEST_CASE("sphere exit tables reproduce walks simulated collision by collision",
     }
 }
 
+TEST_CASE("every outcome of a table is a walk's exit, when the walks built side by side do not fill the last batch",
+          "[sphere_walk][render]") {
+    // The build runs kLanes walks side by side; 1000 outcomes a level leave
+    // a last batch of 1000 mod kLanes. An outcome never written would keep
+    // SphereExit's zeros (a point at the centre, no length).
+    REQUIRE(1000 % SphereExitTables::kLanes != 0);
+    const SphereExitTables tables(PhaseFunction(0.3f), 64.0, 9, 1000);
+    REQUIRE(tables.levels() == 5);
+    for (int level = 0; level < tables.levels(); ++level)
+        for (int i = 0; i < 1000; ++i) {
+            const SphereExit& e = tables.sample(level, (i + 0.5) / 1000.0);
+            INFO("level " << level << ", outcome " << i);
+            REQUIRE(glm::length(e.point) == Approx(1.0).margin(1e-5));
+            REQUIRE(glm::length(e.direction) == Approx(1.0).margin(1e-5));
+            REQUIRE(e.path_length >= SphereExitTables::radius(level));
+        }
+}
+
 TEST_CASE("deep levels keep diffusion theory's mean exit time", "[sphere_walk][render]") {
     // From the centre of a ball of radius R (mean free paths), diffusion
     // with D = 1/(3(1 − g)) leaves after a mean path length R²/(6D) =

@@ -69,15 +69,30 @@ public:
     const SphereExit& sample(int level, double u) const;
     std::size_t memory_bytes() const;
 
+    // Walks built side by side by a thread, so that their reads of the
+    // tables overlap (docs/stiff-media.md).
+    static constexpr int kLanes = 16;
+
 private:
-    SphereExit walk(int level, std::uint64_t stream) const;
+    struct Walker;
+    void walk(int level, const std::uint64_t* streams, int count, SphereExit* outcomes) const;
+    bool step(Walker& w, double R) const;
     PhaseFunction phase_;
     std::vector<std::vector<SphereExit>> levels_;
 };
 
-// An outcome's point or direction in the world: `local` in the frame whose
-// +z is unit `axis`, turned by the angle whose cosine and sine are given.
-glm::vec3 sphere_exit_to_world(const glm::vec3& local, const glm::vec3& axis, float cos_phi,
-                               float sin_phi);
+// Where an outcome lands in the world: its frame's +z is the path's unit
+// direction `axis`, turned about it by the angle whose cosine and sine are
+// given. Made once for an outcome's point and direction both.
+class SphereExitFrame {
+public:
+    SphereExitFrame(const glm::vec3& axis, float cos_phi, float sin_phi);
+    // A point or direction of the outcome, in the world.
+    glm::vec3 to_world(const glm::vec3& local) const;
+
+private:
+    glm::vec3 t_, b_, axis_;
+    float cos_phi_, sin_phi_;
+};
 
 }  // namespace jade
