@@ -120,7 +120,7 @@ Comparison render_both(const TempDir& dir, const std::string& job, const std::st
 void check_vase_volume(const TempDir& dir, const std::array<double, 3>& bound, const std::string& side_by_side) {
     const std::string job = dir.file("job.json");
     write(job, replace(job_json(kData + "/meshes/greek-vase-01.glb", "{\"volume\": \"fit/volume.vdb\"}", "none",
-                                "{\"irradiance\": 0, \"environment\": \"1.0\"}", 64, 128),
+                                "{\"irradiance\": 0, \"environment\": \"1.0\"}", 64, 64),
                        "CAMERA",
                        "{\"origin\": [0, 0.5, 0.82], \"target\": [0, 0.2, 0], \"fov_degrees\": 40, "
                        "\"width\": 64, \"height\": 64}"));
@@ -146,7 +146,7 @@ TEST_CASE("Blender round trip: a homogeneous medium in each boundary renders ali
                                         "{\"sigma_s\": [3.0, 1.5, 0.8], \"sigma_a\": [0.05, 0.2, 0.4]}", boundary,
                                         "{\"direction\": [0.35, 0.8, 0.5], \"irradiance\": 3.0, "
                                         "\"radius_degrees\": 20, \"environment\": \"0.2\"}",
-                                        40, 256),
+                                        40, 128),
                                "CAMERA",
                                "{\"origin\": [0, 0.8, 3.6], \"target\": [0, 0, 0], \"fov_degrees\": 40, "
                                "\"width\": 40, \"height\": 40}"));
@@ -177,7 +177,7 @@ TEST_CASE("Blender round trip: a delta light behind the split boundary becomes a
                                 "{\"sigma_s\": [3.0, 1.5, 0.8], \"sigma_a\": [0.05, 0.2, 0.4]}", "split",
                                 "{\"direction\": [0.35, 0.45, 0.82], \"irradiance\": 3.0, "
                                 "\"radius_degrees\": 0, \"environment\": \"0.2\"}",
-                                40, 256),
+                                40, 128),
                        "CAMERA",
                        "{\"origin\": [0, 0.8, 3.6], \"target\": [0, 0, 0], \"fov_degrees\": 40, "
                        "\"width\": 40, \"height\": 40}"));
@@ -219,6 +219,9 @@ TEST_CASE("Blender round trip: the demo's fitted volume in the vase, index-match
     // blue), so the difference is Cycles' (as the script drives it) on this
     // medium's coefficients (blue: albedo 0.47, 53 mean free paths per unit),
     // not the heterogeneity. Bounds: 5 % in red and green, 15 % in blue.
+    // (The volume the photo gives has changed since with the structure
+    // estimate; on 2026-12-01, at 64 spp, Cycles read −0.7 %, −1.3 % and
+    // −2.2 % against jaderender, noise 0.2 %.)
     TempDir dir;
     jaderender("--photo " + kData + "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kData +
                    "/meshes/greek-vase-01.glb --resolution 64 --ks 2.30,0.92,0.07 --contrast 1.7,6.1,11.2"
