@@ -90,9 +90,11 @@ constexpr double kNoiseScale = 19683.0 / (4.0 * 256.0);
 static_assert(kRadius2 == 0.5, "kNoiseScale is derived for R^2 = 1/2");
 
 // The twelve gradients: midpoints of a cube's edges.
-constexpr int kGrad[12][3] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0},
-                              {1, 0, 1},  {-1, 0, 1},  {1, 0, -1}, {-1, 0, -1},
-                              {0, 1, 1},  {0, -1, 1},  {0, 1, -1}, {0, -1, -1}};
+// Doubles, not ints: the products with a corner's offset are the same
+// (exact ±1 and 0), without converting each of the twelve per call.
+constexpr double kGrad[12][3] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0},
+                                 {1, 0, 1},  {-1, 0, 1},  {1, 0, -1}, {-1, 0, -1},
+                                 {0, 1, 1},  {0, -1, 1},  {0, 1, -1}, {0, -1, -1}};
 
 // The layers' warp is the paper's fBm (§4.1, k = 1/2): smooth folds.
 constexpr double kLayerWarpRatio = 0.5;
@@ -132,6 +134,7 @@ SimplexNoise::SimplexNoise(std::uint32_t seed) {
         std::swap(perm_[i], perm_[j]);
     }
     for (int i = 0; i < 256; ++i) perm_[256 + i] = perm_[i];
+    for (int i = 0; i < 512; ++i) gradient_[i] = std::uint8_t(perm_[i] % 12);
 }
 
 double SimplexNoise::operator()(double x, double y, double z) const {
@@ -154,10 +157,10 @@ double SimplexNoise::operator()(double x, double y, double z) const {
     const double x3 = x0 - 1 + 3 * G3, y3 = y0 - 1 + 3 * G3, z3 = z0 - 1 + 3 * G3;
 
     const int ii = i & 255, jj = j & 255, kk = k & 255;
-    const int g0 = perm_[ii + perm_[jj + perm_[kk]]] % 12;
-    const int g1 = perm_[ii + i1 + perm_[jj + j1 + perm_[kk + k1]]] % 12;
-    const int g2 = perm_[ii + i2 + perm_[jj + j2 + perm_[kk + k2]]] % 12;
-    const int g3 = perm_[ii + 1 + perm_[jj + 1 + perm_[kk + 1]]] % 12;
+    const int g0 = gradient_[ii + perm_[jj + perm_[kk]]];
+    const int g1 = gradient_[ii + i1 + perm_[jj + j1 + perm_[kk + k1]]];
+    const int g2 = gradient_[ii + i2 + perm_[jj + j2 + perm_[kk + k2]]];
+    const int g3 = gradient_[ii + 1 + perm_[jj + 1 + perm_[kk + 1]]];
 
     return kNoiseScale * (corner(g0, x0, y0, z0) + corner(g1, x1, y1, z1) + corner(g2, x2, y2, z2) +
                     corner(g3, x3, y3, z3));

@@ -91,6 +91,7 @@ public:
 
 private:
     std::uint8_t perm_[512];
+    std::uint8_t gradient_[512];  // perm_[i] % 12: the gradient a hashed corner takes
 };
 
 // The fBm of Table 1 for one seed.
