@@ -131,7 +131,7 @@ TEST_CASE("damaged .vdb volumes: read whole or refused in one line", "[corrupt]"
     v.cube.side = 1.0;
     write_material_vdb(dir.file("good.vdb"), v);
     // 120 copies, not 300: each read starts jaderender-vdb-check once or
-    // twice, and a start costs about 60 ms of resolving libopenvdb's symbols
+    // twice, and a start costs 60–75 ms, mostly resolving libopenvdb's symbols
     // (the other readers run in this process).
     fuzz("vdb", dir.file("good.vdb"), 120, [](const std::string& p) { read_material_vdb(p); });
 }

@@ -5,7 +5,7 @@
 // data, and there that costs only the checking process
 // (docs/robustness.md). The process is the small program jaderender-vdb-check,
 // built beside jaderender; it links OpenVDB alone, so that it starts in
-// about 60 ms (most of it the dynamic linker resolving libopenvdb's symbols).
+// 60–75 ms (most of it the dynamic linker resolving libopenvdb's symbols).
 
 #include <cstdint>
 #include <string>
