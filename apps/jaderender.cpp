@@ -45,7 +45,7 @@ struct Vec3Flag {
 struct VolumeOptions {
     std::string photo, mask, out, preview, color_name = "color";
     bool z_up = false;
-    jade::NoiseParams noise;
+    jade::NoiseParams noise = jade::default_photo_noise();
     std::string structure = "photo";
     std::string match = "joint";
     std::string extinction = jade::to_string(jade::OpticalParams{}.extinction);
@@ -116,7 +116,7 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
     cmd.add_option("--sharpen", o.noise.sharpen,
                    "Unsharp mask on the matched levels, v + amount (v - Gaussian blur of v): fine structure "
-                   "(veins) stronger, so that more of it survives the light's diffusion; 0 = none (the paper's)")
+                   "(veins, layers) stronger, so that more of it survives the light's diffusion; 0 = none (the paper's)")
         ->capture_default_str();
     cmd.add_option("--sharpen-radius", o.noise.sharpen_radius,
                    "With --sharpen: the blur's standard deviation, voxels")

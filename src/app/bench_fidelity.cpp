@@ -36,20 +36,6 @@ PipelineOptions common_options(const FidelityBenchOptions& b, const std::string&
     return o;
 }
 
-// The paper's method as §4–5 give it: per-channel histogram matching, d_a =
-// 0.1, §5.1's extinction, the fBm with its fixed frequency and amplitude ratio, and k_s stepped
-// by 0.01 (Algorithm 2) with no contrast, its fitted k_s rendered as it is.
-PipelineOptions paper_options(const FidelityBenchOptions& b, int seed) {
-    PipelineOptions o = common_options(b, "paper", seed);
-    o.structure = StructureMode::Fbm;
-    o.match = MatchMode::PerChannel;
-    o.optics.da = 0.1;
-    o.optics.extinction = Extinction::Paper;
-    o.fit.method = FitMethod::Step;
-    o.final_match = false;
-    return o;
-}
-
 void print_row(const char* name, const std::array<double, 3>& a, const std::array<double, 3>& b,
                const char* format) {
     std::printf("  %-34s", name);
@@ -165,6 +151,24 @@ std::string ratio_line(const char* name, const std::vector<std::array<double, 3>
 
 }  // namespace
 
+PipelineOptions default_method_options(const FidelityBenchOptions& b, int seed) {
+    PipelineOptions o = common_options(b, "default", seed);
+    o.noise.veins = b.veins;
+    return o;
+}
+
+PipelineOptions paper_method_options(const FidelityBenchOptions& b, int seed) {
+    PipelineOptions o = common_options(b, "paper", seed);
+    o.structure = StructureMode::Fbm;
+    o.noise.sharpen = 0.0;  // §4.2's levels as matched
+    o.match = MatchMode::PerChannel;
+    o.optics.da = 0.1;
+    o.optics.extinction = Extinction::Paper;
+    o.fit.method = FitMethod::Step;
+    o.final_match = false;
+    return o;
+}
+
 SeedRatio ratio_over_seeds(const std::vector<std::array<double, 3>>& d_default,
                            const std::vector<std::array<double, 3>>& d_paper) {
     if (d_default.empty() || d_default.size() != d_paper.size())
@@ -225,10 +229,8 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     std::fflush(stdout);
     std::vector<SeedDistances> distances;
     for (int seed = 1; seed <= b.seeds; ++seed) {
-        PipelineOptions defaults = common_options(b, "default", seed);
-        defaults.noise.veins = b.veins;
-        const PipelineResult def = run_pipeline(defaults);
-        const PipelineResult paper = run_pipeline(paper_options(b, seed));
+        const PipelineResult def = run_pipeline(default_method_options(b, seed));
+        const PipelineResult paper = run_pipeline(paper_method_options(b, seed));
         if (b.seeds > 1) std::printf("\nseed %d:", seed);
         print_table(def, paper);
         std::fflush(stdout);

@@ -85,4 +85,10 @@ std::string sharpening_warning(double amount, const std::array<double, 3>& clipp
     return buf;
 }
 
+NoiseParams default_photo_noise() {
+    NoiseParams noise;
+    noise.sharpen = kDefaultSharpen;
+    return noise;
+}
+
 }  // namespace jade

@@ -96,3 +96,47 @@ TEST_CASE("over-seeds summary: the default's, the stone's and the least's D agai
           std::string::npos);
     CHECK(partial.substr(partial.find("the photo's own stone")).find("0.80 +- 0.00") != std::string::npos);
 }
+
+TEST_CASE("bench fidelity's two sides: the paper's method as §4–5 give it, the default the pipeline's own",
+          "[bench]") {
+    FidelityBenchOptions b;
+    b.photo = "stone.png", b.mesh = "vase.glb", b.out_dir = "out", b.veins = true, b.resolution = 64, b.spp = 32;
+    const PipelineOptions paper = paper_method_options(b, 2), def = default_method_options(b, 2);
+    // The paper's side: §4.1's fBm with the paper's parameters (only the
+    // resolution and seed from the bench), §4.2's per-channel matching of
+    // levels left as matched, §5.1's coefficients with d_a = 0.1, and k_s
+    // in Algorithm 2's steps, rendered as fitted.
+    NoiseParams fbm;
+    fbm.resolution = 64, fbm.seed = 2;
+    CHECK(paper.structure == StructureMode::Fbm);
+    CHECK(paper.noise.frequency == fbm.frequency);
+    CHECK(paper.noise.k == fbm.k);
+    CHECK(paper.noise.bands == 0.0);
+    CHECK_FALSE(paper.noise.veins);
+    CHECK(paper.noise.sharpen == 0.0);
+    CHECK(paper.match == MatchMode::PerChannel);
+    CHECK(paper.optics.da == 0.1);
+    CHECK(paper.optics.extinction == Extinction::Paper);
+    CHECK(paper.fit.method == FitMethod::Step);
+    CHECK_FALSE(paper.final_match);
+    // The default's side: what `jaderender --photo P --mesh M` runs, with
+    // veins where asked.
+    const PipelineOptions pipeline;
+    CHECK(def.structure == pipeline.structure);
+    CHECK(def.match == pipeline.match);
+    CHECK(def.noise.sharpen == kDefaultSharpen);
+    CHECK(def.noise.veins);
+    CHECK(def.optics.da == pipeline.optics.da);
+    CHECK(def.optics.extinction == pipeline.optics.extinction);
+    CHECK(def.fit.method == FitMethod::Contrast);
+    CHECK(def.final_match);
+    // Both: the bench's seed, size and samples, into their own folders.
+    for (const PipelineOptions* o : {&paper, &def}) {
+        CHECK(o->noise.seed == 2u);
+        CHECK(o->render.settings.seed == 2u);
+        CHECK(o->noise.resolution == 64);
+        CHECK(o->render.settings.spp == 32);
+        CHECK(o->measure_material);
+    }
+    CHECK(paper.out_dir != def.out_dir);
+}

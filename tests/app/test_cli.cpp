@@ -6,6 +6,7 @@
 #include "jade/core/memory.h"
 #include "jade/io/image_io.h"
 #include "jade/io/vdb_io.h"
+#include "jade/volume/sharpen.h"
 
 using jade::ImageF32;
 using jade::read_image_f32;
@@ -108,6 +109,16 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
                      "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " + dir.file("paper.vdb"))
                 .code == 0);
     CHECK(jade::read_material_vdb(dir.file("paper.vdb")).optics.extinction == jade::Extinction::Paper);
+
+    // The levels are sharpened by kDefaultSharpen unless told otherwise
+    // (--structure fbm too), and the file records by how much, so that its
+    // parameters rebuild them.
+    CHECK(jade::read_material_vdb(dir.file("out.vdb")).noise.sharpen == jade::kDefaultSharpen);
+    CHECK(jade::read_material_vdb(dir.file("fbm.vdb")).noise.sharpen == jade::kDefaultSharpen);
+    REQUIRE(run(dir, "volume --structure fbm --sharpen 0 --photo " JADE_DATA_DIR
+                     "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " + dir.file("plain.vdb"))
+                .code == 0);
+    CHECK(jade::read_material_vdb(dir.file("plain.vdb")).noise.sharpen == 0.0);
 }
 
 TEST_CASE("--help documents the flags and exits 0", "[cli]") {

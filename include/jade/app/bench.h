@@ -2,6 +2,8 @@
 // Benchmarks: speed and memory of the pipeline's stages on built-in inputs,
 // printed as a table. Measured here, never by timed tests.
 
+#include "jade/app/pipeline.h"
+
 #include <cstdint>
 #include <array>
 #include <string>
@@ -95,6 +97,16 @@ struct FidelityBenchOptions {
     int seeds = 1;
 };
 int run_fidelity_benchmark(const FidelityBenchOptions& options);
+
+// The pipeline options of the two methods for noise and render seed `seed`.
+// The default's: the pipeline's own (the structure from the photo, joint
+// matching, sharpened levels, the contrast fit), with veins where asked.
+// The paper's method as §4–5 give it: per-channel histogram matching of
+// unsharpened levels, d_a = 0.1, §5.1's extinction, the fBm with its fixed
+// frequency and amplitude ratio, and k_s stepped by 0.01 (Algorithm 2) with
+// no contrast, its fitted k_s rendered as it is.
+PipelineOptions default_method_options(const FidelityBenchOptions& options, int seed);
+PipelineOptions paper_method_options(const FidelityBenchOptions& options, int seed);
 
 // D(default) / D(paper) per channel over paired seeds (the same seeds for
 // both methods): the ratio of the mean D's, and its standard error from the

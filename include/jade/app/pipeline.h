@@ -11,6 +11,7 @@
 #include "jade/volume/color_match.h"
 #include "jade/volume/material_volume.h"
 #include "jade/volume/noise.h"
+#include "jade/volume/sharpen.h"
 
 #include <optional>
 #include <string>
@@ -23,7 +24,9 @@ struct PipelineOptions {
     std::string out_dir;              // "" = "<photo name>-jaderender" in the current folder
     std::string volume;               // a jaderender .vdb to fit instead of building one from the
                                       // photo (its d_s, d_a, density scale and noise are kept)
-    NoiseParams noise;                // the paper's fBm, or the resolution and seed for an estimate
+    // The paper's fBm, or the resolution and seed for an estimate; either
+    // sharpened by kDefaultSharpen unless told otherwise (volume/sharpen.h).
+    NoiseParams noise = default_photo_noise();
     StructureMode structure = StructureMode::Photo;
     MatchMode match = MatchMode::Joint;
     OpticalParams optics;             // for a volume built from the photo

@@ -14,6 +14,7 @@
 // paper's volume.
 
 #include "jade/core/image.h"
+#include "jade/volume/noise.h"
 
 #include <array>
 #include <string>
@@ -35,6 +36,18 @@ std::array<double, 3> sharpen_levels(std::vector<Rgb8>& levels, int resolution, 
 // (Onyx010's layers at β = 4 clip 6–9 %, and the fit of that volume ran to
 // its largest contrast; at β = 2 under 5 %; docs/design.md, "Sharpening").
 constexpr double kSharpenClipWarning = 0.05;
+
+// The amount a volume built from a photo is sharpened by unless told otherwise
+// (--sharpen; the library's NoiseParams keep 0, the paper's levels). At the
+// default radius, on the onyx photos (docs/design.md, "Sharpening"): at 0.5
+// the fits converged and the renders' structure came nearer the photo's,
+// the whole render's D about as it was; at 1 the demo's fit ran its blue
+// contrast to the largest there is, and at 4 every onyx fit did.
+constexpr double kDefaultSharpen = 0.5;
+
+// The noise options a volume built from a photo starts from: the paper's
+// fBm (NoiseParams' own) sharpened by kDefaultSharpen.
+NoiseParams default_photo_noise();
 
 // The warning for a sharpening that clipped more than kSharpenClipWarning
 // of a channel's voxels, naming the shares and --sharpen; empty otherwise.
