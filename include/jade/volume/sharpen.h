@@ -42,7 +42,8 @@ constexpr double kSharpenClipWarning = 0.05;
 // default radius, on the onyx photos (docs/design.md, "Sharpening"): at 0.5
 // the fits converged and the renders' structure came nearer the photo's,
 // the whole render's D about as it was; at 1 the demo's fit ran its blue
-// contrast to the largest there is, and at 4 every onyx fit did.
+// contrast to the largest there is, and at 4 both onyx fits tried ran out
+// of renders.
 constexpr double kDefaultSharpen = 0.5;
 
 // The noise options a volume built from a photo starts from: the paper's
