@@ -46,6 +46,7 @@ struct VolumeOptions {
     std::string photo, mask, out, preview, color_name = "color";
     bool z_up = false;
     jade::NoiseParams noise = jade::default_photo_noise();
+    std::string sharpen = "auto";  // --sharpen: sharpen_amount
     std::string structure = "photo";
     std::string match = "joint";
     std::string extinction = jade::to_string(jade::OpticalParams{}.extinction);
@@ -58,6 +59,29 @@ struct VolumeOptions {
 void group_from(CLI::App& cmd, std::size_t first, const std::string& group) {
     const std::vector<CLI::Option*> options = cmd.get_options();
     for (std::size_t i = first; i < options.size(); ++i) options[i]->group(group);
+}
+
+// A number as --help prints it: "0.5", not "0.500000".
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+// The amount --sharpen gives: a number, or 'auto' (kDefaultSharpen, the
+// first fit's; PipelineOptions::sharper_stone then tries more).
+double sharpen_amount(const std::string& text) {
+    if (text == "auto") return jade::kDefaultSharpen;
+    std::size_t used = 0;
+    double amount = 0.0;
+    try {
+        amount = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size())
+        throw jade::Error("--sharpen must be 'auto' or an amount (0 = none), not '" + text + "'");
+    return amount;
 }
 
 void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = true) {
@@ -114,9 +138,13 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
                    "With --bands: a 1-D fBm across the layers (its octaves' amplitude ratio --k) instead of the "
                    "sine, so the layers have many thicknesses, folded by the paper's smooth fBm")
         ->capture_default_str();
-    cmd.add_option("--sharpen", o.noise.sharpen,
+    cmd.add_option("--sharpen", o.sharpen,
                    "Unsharp mask on the matched levels, v + amount (v - Gaussian blur of v): fine structure "
-                   "(veins, layers) stronger, so that more of it survives the light's diffusion; 0 = none (the paper's)")
+                   "(veins, layers) stronger, so that more of it survives the light's diffusion. 'auto': " +
+                       number(jade::kDefaultSharpen) + ", and where the fit leaves room (it raised the density "
+                       "scale, short of its ceiling) a second fit of the stone sharpened by " +
+                       number(jade::kSharperStone) + ", kept where it converges (`volume`: " +
+                       number(jade::kDefaultSharpen) + "); an amount: that one alone; 0 = none (the paper's)")
         ->capture_default_str();
     cmd.add_option("--sharpen-radius", o.noise.sharpen_radius,
                    "With --sharpen: the blur's standard deviation, voxels")
@@ -147,6 +175,7 @@ int run_volume(VolumeOptions& o) {
         const glm::vec3 g = o.contrast.value("--contrast");
         o.optics.contrast = {g.x, g.y, g.z};
     }
+    o.noise.sharpen = sharpen_amount(o.sharpen);
     o.noise.validate();
     o.optics.validate();
     // Refuse a missing output folder now, not after seconds of work.
@@ -696,6 +725,8 @@ int run_pipeline(PipelineFlags& p) {
     o.photo = p.volume.photo;
     o.mask = p.volume.mask;
     o.noise = p.volume.noise;
+    o.noise.sharpen = sharpen_amount(p.volume.sharpen);
+    o.sharper_stone = p.volume.sharpen == "auto" ? jade::kSharperStone : 0.0;
     o.structure = jade::parse_structure_mode(p.volume.structure);
     o.match = jade::parse_match_mode(p.volume.match);
     o.optics = p.volume.optics;

@@ -160,7 +160,8 @@ PipelineOptions default_method_options(const FidelityBenchOptions& b, int seed) 
 PipelineOptions paper_method_options(const FidelityBenchOptions& b, int seed) {
     PipelineOptions o = common_options(b, "paper", seed);
     o.structure = StructureMode::Fbm;
-    o.noise.sharpen = 0.0;  // §4.2's levels as matched
+    o.noise.sharpen = 0.0;  // §4.2's levels as matched, and no sharper stone
+    o.sharper_stone = 0.0;
     o.match = MatchMode::PerChannel;
     o.optics.da = 0.1;
     o.optics.extinction = Extinction::Paper;

@@ -57,6 +57,71 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     return volume;
 }
 
+// A volume and its fit: the session refers to the volume, so both live here
+// (not movable).
+struct FittedVolume {
+    FittedVolume(MaterialVolume v, const PreparedScene& prep, const Photo& photo, const RenderSettings& settings,
+                 const FitOptions& fit)
+        : volume(std::move(v)), session(volume, prep.scene, prep.camera, settings, photo, fit) {}
+    FittedVolume(const FittedVolume&) = delete;
+    MaterialVolume volume;
+    FitSession session;
+    FitOutcome outcome;
+
+    void fit(const PipelineOptions& o, const char* label) {
+        std::unique_ptr<Progress> bar;
+        if (o.progress && o.fit.method != FitMethod::None)
+            bar = std::make_unique<Progress>(label, std::size_t(o.fit.max_renders));
+        outcome = session.run(bar.get());
+        volume.optics.ks = outcome.ks;
+        volume.optics.contrast = outcome.contrast;
+        volume.optics.density_scale = outcome.density_scale;
+        volume.exposure = outcome.exposure;
+    }
+};
+
+// The sharper stone (PipelineOptions::sharper_stone): where `first`'s fit
+// leaves room, the same volume sharpened more, fitted from that fit's
+// outcome with half its budget of renders, and kept where that fit
+// converges. Returns the volume and fit kept.
+std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const Photo& photo,
+                                                const PreparedScene& prep, std::unique_ptr<FittedVolume> first,
+                                                PipelineResult& res) {
+    const double amount = first->volume.noise.sharpen;
+    if (!o.volume.empty() || o.fit.method != FitMethod::Contrast || !(o.sharper_stone > amount)) return first;
+    SharperStone& sharper = res.sharper.emplace();
+    sharper.first = amount;
+    sharper.sharper = o.sharper_stone;
+    sharper.not_tried = no_room_for_sharper_stone(first->outcome);
+    if (!sharper.not_tried.empty()) return first;
+    const Stopwatch clock;
+    NoiseParams noise = first->volume.noise;
+    noise.sharpen = o.sharper_stone;
+    std::unique_ptr<Progress> bar;
+    if (o.progress) bar = std::make_unique<Progress>("the sharper stone's levels", std::size_t(noise.resolution));
+    MaterialVolume volume = build_material_volume(photo, noise, o.match, o.optics, bar.get());
+    bar.reset();
+    volume.structure = first->volume.structure;
+    volume.cube = first->volume.cube;
+    volume.optics.density_scale = first->outcome.density_scale;
+    FitOptions fit = o.fit;
+    fit.start = start_from(first->outcome);
+    fit.max_renders = std::max(kMinContrastRenders, o.fit.max_renders / 2);
+    auto next = std::make_unique<FittedVolume>(std::move(volume), prep, photo, o.render.settings, fit);
+    next->fit(o, "fitting the sharper stone");
+    sharper.seconds = clock.seconds();
+    sharper.kept = next->outcome.converged;
+    if (!sharper.kept) {
+        sharper.other = next->outcome;
+        return first;
+    }
+    sharper.other = first->outcome;
+    res.structure.chosen.noise.sharpen = noise.sharpen;  // the noise the volume written was built with
+    const std::string clipped = sharpening_warning(noise.sharpen, next->volume.sharpen_clipped);
+    if (!clipped.empty()) res.warnings.push_back("volume: the sharper stone's " + clipped);
+    return next;
+}
+
 // The final render's settings. With `spp` > 0 exactly that many samples
 // per pixel, whatever stopped the final render: a render that must share
 // its random numbers takes the same samples.
@@ -226,6 +291,23 @@ RenderJob replay_job(const PipelineOptions& o, const PreparedScene& prep, const 
     return job;
 }
 
+// fit.csv's rows: the first fit's, then the sharper stone's where one was
+// fitted, their iterations and seconds running on.
+std::vector<FitRecord> fit_rows(const PipelineResult& res) {
+    if (!res.sharper || !res.sharper->not_tried.empty()) return res.fit.records;
+    const FitOutcome& first = res.sharper->kept ? res.sharper->other : res.fit;
+    const FitOutcome& sharper = res.sharper->kept ? res.fit : res.sharper->other;
+    std::vector<FitRecord> rows = first.records;
+    // The sharper stone's fit began after the first and the sharper levels.
+    const double offset = first.seconds + res.sharper->seconds - sharper.seconds;
+    for (FitRecord r : sharper.records) {
+        r.iteration += int(first.records.size());
+        r.seconds += offset;
+        rows.push_back(r);
+    }
+    return rows;
+}
+
 void write_outputs(const PipelineOptions& o, PipelineResult& res, const MaterialVolume& volume,
                    const Photo& photo, const PreparedScene& prep) {
     const Stopwatch clock;
@@ -242,11 +324,12 @@ void write_outputs(const PipelineOptions& o, PipelineResult& res, const Material
     // not a block of fog); the levels cover the cube for any other mesh.
     write_material_vdb(out("volume.vdb"), volume, VdbLayout{&prep.mesh, o.vdb_z_up, o.vdb_color_name});
     write_film(res.final_render.film, out("render.exr"), out("render.png"), prep.backdrop.transparent, exposure);
-    write_text_file(out("fit.csv"), fit_csv(res.fit.records));
+    const std::vector<FitRecord> rows = fit_rows(res);
+    write_text_file(out("fit.csv"), fit_csv(rows));
     write_convergence_csv(out("convergence.csv"), res.final_render.passes);
     const RgbImage8 conv = convergence_plot(res.final_render.passes, "final render");
     write_image_u8(out("convergence.png"), conv.width, conv.height, 3, conv.pixels);
-    const RgbImage8 fitp = fit_plot(res.fit.records, res.fit.limits.tolerance);
+    const RgbImage8 fitp = fit_plot(rows, res.fit.limits.tolerance);
     write_image_u8(out("fit.png"), fitp.width, fitp.height, 3, fitp.pixels);
     const DisplayStatistics final_stats = display_statistics(res.final_render.film, exposure, LumaHalves::Measure);
     const RgbHistogram photo_histogram = RgbHistogram::of(photo.foreground_levels());
@@ -311,27 +394,18 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     MaterialVolume volume = make_volume(o, photo, prep->cube, res);
     res.seconds_volume = clock.seconds();
 
-    FitSession session(volume, prep->scene, prep->camera, o.render.settings, photo, o.fit);
-    {
-        std::unique_ptr<Progress> bar;
-        if (o.progress && o.fit.method != FitMethod::None)
-            bar = std::make_unique<Progress>(o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast"
-                                                                                 : "fitting k_s",
-                                             std::size_t(o.fit.max_renders));
-        res.fit = session.run(bar.get());
-        for (const std::string& w : res.fit.warnings) res.warnings.push_back("fit: " + w);
-        res.seconds_fit = res.fit.seconds;
-    }
-    volume.optics.ks = res.fit.ks;
-    volume.optics.contrast = res.fit.contrast;
-    volume.optics.density_scale = res.fit.density_scale;
-    volume.exposure = res.fit.exposure;
-
-    check_and_render(o, *prep, session, volume, res);
-    if (o.measure_material) res.material = measure_material(o, *prep, volume, photo, res);
+    auto fitted = std::make_unique<FittedVolume>(std::move(volume), *prep, photo, o.render.settings, o.fit);
+    fitted->fit(o, o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast" : "fitting k_s");
+    res.seconds_fit = fitted->outcome.seconds;
+    fitted = fit_sharper_stone(o, photo, *prep, std::move(fitted), res);
+    if (res.sharper) res.seconds_fit += res.sharper->seconds;
+    res.fit = fitted->outcome;
+    for (const std::string& w : res.fit.warnings) res.warnings.push_back("fit: " + w);
+    check_and_render(o, *prep, fitted->session, fitted->volume, res);
+    if (o.measure_material) res.material = measure_material(o, *prep, fitted->volume, photo, res);
 
     res.seconds_total = total.seconds();
-    write_outputs(o, res, volume, photo, *prep);
+    write_outputs(o, res, fitted->volume, photo, *prep);
     res.seconds_total = total.seconds();
     return res;
 }

@@ -29,7 +29,7 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
                              "S_photo_scaled", "S_material", "S_material_noise", "A_final_size"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",density_scale,structure,shading,from_final_size\n";
+    s += ",density_scale,structure,shading,from_final_size,sharpen\n";
     char buf[64];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
@@ -41,8 +41,8 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d,%d\n", r.density_scale, r.structure, r.shading ? 1 : 0,
-                      r.from_final_size ? 1 : 0);
+        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d,%d,%.6g\n", r.density_scale, r.structure, r.shading ? 1 : 0,
+                      r.from_final_size ? 1 : 0, r.sharpen);
         s += buf;
     }
     return s;
@@ -228,6 +228,20 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
     return j;
 }
 
+// The sharper stone's fit (PipelineOptions::sharper_stone), where it was
+// considered: the fit not kept in full.
+nlohmann::json sharper_json(const PipelineOptions& o, const SharperStone& sh) {
+    nlohmann::json j = {{"first", sh.first}, {"sharper", sh.sharper}, {"tried", sh.not_tried.empty()},
+                        {"kept", sh.kept}};
+    if (!sh.not_tried.empty()) {
+        j["not_tried"] = sh.not_tried;
+        return j;
+    }
+    j["seconds"] = sh.seconds;
+    j[sh.kept ? "first_fit" : "sharper_fit"] = fit_json(o, sh.other);
+    return j;
+}
+
 nlohmann::json final_render_json(const PipelineReport& in) {
     const RenderResult& render = in.result.final_render;
     const PassRecord& last = render.passes.back();
@@ -298,6 +312,7 @@ std::string pipeline_report(const PipelineReport& in) {
     j["volume"] = volume_json(o, in.volume);
     if (res.structure_estimated) j["structure"] = structure_json(res);
     j["fit"] = fit_json(o, res.fit);
+    if (res.sharper) j["sharpening"] = sharper_json(o, *res.sharper);
     j["final_render"] = final_render_json(in);
     if (const auto& b = res.brightness_check) j["brightness_check"] = brightness_check_json(*b);
     j["appearance"] = appearance_json(res.final_look);
@@ -312,6 +327,22 @@ std::string pipeline_report(const PipelineReport& in) {
 }
 
 namespace {
+
+// The sharper stone on the console: why it was not tried, or its fit's
+// outcome beside the other one.
+void print_sharper_summary(const SharperStone& sh, const FitOutcome& kept) {
+    if (!sh.not_tried.empty()) {
+        std::printf("  sharpening %g; a sharper stone (%g) not tried: %s\n", sh.first, sh.sharper, sh.not_tried.c_str());
+        return;
+    }
+    const FitOutcome& first = sh.kept ? sh.other : kept;
+    const FitOutcome& sharper = sh.kept ? kept : sh.other;
+    std::printf("  the sharper stone (sharpening %g, from %g): fitted from the first fit's outcome in %d renders, %.1f s: "
+                "%s; the first fit: %d renders, contrast (%.3f, %.3f, %.3f), density scale %.4g\n",
+                sh.sharper, sh.first, sharper.renders, sh.seconds,
+                sh.kept ? "converged, kept" : "NOT converged, the first fit's volume kept", first.renders,
+                first.contrast[0], first.contrast[1], first.contrast[2], first.density_scale);
+}
 
 // The fit's outcome on the console: warnings, k_s, contrast and density
 // scale, the last fitting render's A and the brightness check.
@@ -334,9 +365,11 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
     else
         std::snprintf(goal, sizeof goal, "|dA| < %g in every channel, |dS| < %g where the contrast was fitted",
                       fit.limits.tolerance, o.fit.s_tolerance);
+    // Both fits' renders where the sharper stone was fitted too.
+    const int renders = fit.renders + (r.sharper && r.sharper->not_tried.empty() ? r.sharper->other.renders : 0);
     std::printf("fit (%s): %d renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
                 "(%.3f, %.3f, %.3f); %s\n",
-                to_string(o.fit.method), fit.renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
+                to_string(o.fit.method), renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
                 fit.ks[2], fit.contrast[0], fit.contrast[1], fit.contrast[2],
                 fit.converged ? goal : "NOT converged (see the warnings)");
     if (contrast)
@@ -344,7 +377,9 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
                     "S at the same scale (%d px blocks of the final render): (%.1f, %.1f, %.1f); density scale %.4g "
                     "(from %.4g)\n",
                     fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.material_block, fit.s_photo[0],
-                    fit.s_photo[1], fit.s_photo[2], fit.density_scale, fit.density_scale_start);
+                    fit.s_photo[1], fit.s_photo[2], fit.density_scale,
+                    r.sharper && r.sharper->kept ? r.sharper->other.density_scale_start : fit.density_scale_start);
+    if (r.sharper) print_sharper_summary(*r.sharper, fit);
     if (contrast && fit.spread_spp_raised_from > 0)
         std::printf("  S_material hid in the noise of the first step's renders at %d spp; read at %d spp, as the fit "
                     "raised --fit-spread-spp 0 (%d times, where that many show it; give a count to keep it)\n",

@@ -50,10 +50,10 @@ void FitOptions::validate() const {
     if (max_renders < 1) throw Error("--fit-max-renders must be at least 1");
     if (max_renders < 2 && (bisects(method) || exposure == 0.f))
         throw Error("--fit-max-renders must be at least 2: the fit starts with renders at both k_s bounds");
-    if (method == FitMethod::Contrast && max_renders < 6)
-        throw Error("--fit-max-renders must be at least 6 with --fit contrast: 2 at the k_s bounds, then steps "
-                    "of a render and its shading render (and a render at the fitting size when S is measured at "
-                    "the final one)");
+    if (method == FitMethod::Contrast && max_renders < kMinContrastRenders)
+        throw Error("--fit-max-renders must be at least " + std::to_string(kMinContrastRenders) +
+                    " with --fit contrast: 2 at the k_s bounds, then steps of a render and its shading render (and "
+                    "a render at the fitting size when S is measured at the final one)");
     if (!(s_tolerance > 0)) throw Error("the S tolerance must be positive");
     if (contrast_start)
         for (double g : *contrast_start)
@@ -65,6 +65,8 @@ void FitOptions::validate() const {
     if (!(exposure >= 0) || !std::isfinite(exposure))
         throw Error("--exposure must be positive (or 0: matched to the photo)");
     if (width < 0 || spp < 0) throw Error("--fit-width and --fit-spp must not be negative");
+    if (start && method != FitMethod::Contrast)
+        throw Error("a fit starts from another's outcome only under --fit contrast");
     if (spread_spp != 0 && spread_spp < kMinSpreadSpp)
         throw Error("--fit-spread-spp must be 0 (as many samples per image as a fitting render) or at least " +
                     std::to_string(kMinSpreadSpp));
@@ -96,7 +98,8 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
                        const RenderSettings& settings, const Photo& photo, const FitOptions& options)
     : volume_(volume), scene_(scene), photo_(photo), options_(options), lowest_level_(lowest_levels(volume)),
       optics_(volume.optics),
-      limits_(limits_for(volume.optics, lowest_level_, options.contrast_start.value_or(volume.optics.contrast),
+      limits_(limits_for(volume.optics, lowest_level_,
+                         options.start ? options.start->contrast : options.contrast_start.value_or(volume.optics.contrast),
                          options.k_max)),
       camera_(at_width(camera, fitting_width(camera, options))), settings_(settings),
       photo_histogram_(RgbHistogram::of(photo.foreground_levels())), photo_spectrum_(photo_spectrum(photo)),
@@ -106,6 +109,10 @@ FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const C
       spread_pixels_per_side_(spread_at_final_size_ ? render_pixels_per_side(camera, volume.cube) : pixels_per_side_),
       box_factor_(box_factor(final_camera_, camera_)) {
     options_.validate();
+    if (options_.start) {  // that fit's sample counts, found or raised there
+        if (options_.start->spp > 0) options_.spp = options_.start->spp;
+        if (options_.start->spread_spp > 0) options_.spread_spp = options_.start->spread_spp;
+    }
     settings_.time_limit = 0;
     settings_.target_error = 0;
     settings_.reference = nullptr;
@@ -202,6 +209,7 @@ FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<
     rec.ks = ks;
     rec.contrast = contrast;
     rec.density_scale = density_scale_;
+    rec.sharpen = volume_.noise.sharpen;
     for (int c = 0; c < 3; ++c) {
         rec.a_photo[c] = photo_histogram_.mean(c);
         rec.a_render[c] = st.a[c];
@@ -227,7 +235,7 @@ void FitSession::bracket(FitDriver& driver) {
     const std::array<double, 3>& g = outcome_.contrast_start;
     const RenderResult r_lo = fitting_render(k_lo, g);
     const RenderResult r_hi = fitting_render(k_hi, g);
-    if (outcome_.exposure_matched)
+    if (options_.exposure == 0.f)
         outcome_.exposure = float(exposure_in_reach(
             r_lo.film, r_hi.film, {photo_histogram_.mean(0), photo_histogram_.mean(1), photo_histogram_.mean(2)}));
     const std::array<double, 3> d_lo = record(k_lo, g, r_lo.film).delta;
@@ -243,17 +251,37 @@ FitOutcome FitSession::run(Progress* progress) {
     outcome_.spp = options_.spp;
     outcome_.width = camera_.width();
     outcome_.height = camera_.height();
-    outcome_.ks_start = options_.ks_start.value_or(optics_.ks);
-    outcome_.contrast_start = options_.contrast_start.value_or(optics_.contrast);
+    const std::optional<FitStart>& from = options_.start;
+    outcome_.ks_start = from ? from->ks : options_.ks_start.value_or(optics_.ks);
+    outcome_.contrast_start = from ? from->contrast : options_.contrast_start.value_or(optics_.contrast);
     outcome_.density_scale_start = optics_.density_scale;
+    outcome_.density_scale_max =
+        from ? std::max(from->density_scale_max, optics_.density_scale) : kMaxDensityGain * optics_.density_scale;
     set_density_scale(optics_.density_scale);
-    outcome_.exposure = options_.exposure;
-    outcome_.exposure_matched = options_.exposure == 0.f;
+    outcome_.exposure = from ? from->exposure : options_.exposure;
+    outcome_.exposure_matched = from ? from->exposure_matched : options_.exposure == 0.f;
+    if (from) {
+        for (int c = 0; c < 3; ++c) outcome_.ks[c] = std::clamp(from->ks[c], limits_.k_min[c], limits_.k_max);
+        outcome_.contrast = from->contrast;
+        fit_contrast(from->brightness_slope);
+    } else {
+        fit_from_bounds();
+    }
+    if (options_.method != FitMethod::None) mark_clipped_channels();
+    outcome_.renders = fitting_renders();
+    outcome_.seconds = clock_.seconds();
+    progress_ = nullptr;
+    return outcome_;
+}
+
+// The fit from the volume's own start: renders at both k_s bounds where
+// they bracket the search or fix the exposure, the k_s search, then (--fit
+// contrast) the contrast steps.
+void FitSession::fit_from_bounds() {
     const bool fitting = options_.method != FitMethod::None;
     const std::array<double, 3>& g = outcome_.contrast_start;
-
     FitDriver driver(options_.method, outcome_.ks_start, k_search_limits());
-    if (bisects(options_.method) || (fitting && outcome_.exposure_matched)) bracket(driver);
+    if (bisects(options_.method) || (fitting && options_.exposure == 0.f)) bracket(driver);
     // --fit contrast keeps renders for at least two of its steps.
     const int k_renders = options_.max_renders - (options_.method == FitMethod::Contrast ? 2 * step_cost() : 0);
     while (fitting && !driver.done() && fitting_renders() < k_renders) {
@@ -268,12 +296,7 @@ FitOutcome FitSession::run(Progress* progress) {
         outcome_.exposure = matching_exposure(r.film, photo_);
     }
     finish(driver);
-    if (options_.method == FitMethod::Contrast) fit_contrast();
-    if (fitting) mark_clipped_channels();
-    outcome_.renders = fitting_renders();
-    outcome_.seconds = clock_.seconds();
-    progress_ = nullptr;
-    return outcome_;
+    if (options_.method == FitMethod::Contrast) fit_contrast(brightness_slopes());
 }
 
 void FitSession::finish(const FitDriver& driver) {
@@ -562,8 +585,8 @@ std::array<double, 3> FitSession::brightness_slopes() const {
             if (r.ks[c] < k - 1e-6 && (!below || r.ks[c] > below->ks[c])) below = &r;
             if (r.ks[c] > k + 1e-6 && (!above || r.ks[c] < above->ks[c])) above = &r;
         }
-        if (!below || !above) below = &recs.front(), above = &recs[1];
-        const double dk = above->ks[c] - below->ks[c];
+        if ((!below || !above) && recs.size() >= 2) below = &recs.front(), above = &recs[1];
+        const double dk = below && above ? above->ks[c] - below->ks[c] : 0.0;
         slope[c] = dk > 0.0 ? (above->a_render[c] - below->a_render[c]) / dk : 0.0;
         if (!(slope[c] > 0.0) && recs.size() >= 2 && recs[1].ks[c] > recs[0].ks[c])
             slope[c] = (recs[1].a_render[c] - recs[0].a_render[c]) / (recs[1].ks[c] - recs[0].ks[c]);
@@ -593,9 +616,8 @@ constexpr double kContrastCeiling = 4.0;
 // twice, in 19); too small a one overshoots a scale that never falls back.
 constexpr double kDensityExponent = 0.35;
 constexpr double kDensityExponentMin = 0.3, kDensityExponentMax = 1.5;
-// The most the fit raises the density scale, as a factor of the volume's
-// own, and per step.
-constexpr double kMaxDensityGain = 8.0;
+// The most the fit raises the density scale per step (in all:
+// FitOutcome::density_scale_max).
 constexpr double kMaxDensityStep = 4.0;
 // A smaller step is not worth forgetting the search for.
 constexpr double kMinDensityStep = 1.1;
@@ -694,12 +716,11 @@ FitSession::StepRenders FitSession::step_renders(const std::array<double, 3>& ks
 // keeps the best (k_s, g) it saw. Where a channel
 // would need a contrast above kContrastCeiling, the density scale (shared
 // by the channels) rises instead (raise_density_scale).
-void FitSession::fit_contrast() {
+void FitSession::fit_contrast(const std::array<double, 3>& brightness_slope) {
     ContrastSearch st;
     st.k = outcome_.ks;
     st.g = outcome_.contrast_start;
-    const std::array<double, 3> slope = brightness_slopes();
-    for (int c = 0; c < 3; ++c) st.jacobian[c].m[0][0] = slope[c];
+    for (int c = 0; c < 3; ++c) st.jacobian[c].m[0][0] = brightness_slope[c];
     while (fitting_renders() + step_cost() <= options_.max_renders) {
         const StepRenders step = step_renders(st.k, st.g);
         const bool first = st.block == 0;
@@ -934,7 +955,7 @@ void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double
     for (int c = 0; c < 3; ++c)
         if (!st.done[c] && st.g[c] > kContrastCeiling && st.s_last[c] > 0.0)
             need = std::max(need, s_photo[c] / st.s_last[c] * std::min(1.0, st.g_last[c] / kContrastCeiling));
-    const double room = outcome_.density_scale_start * kMaxDensityGain / density_scale_;
+    const double room = outcome_.density_scale_max / density_scale_;
     measure_density_exponent(st);
     const double gain = std::min({std::pow(need, 1.0 / st.alpha), kMaxDensityStep, room});
     if (!(gain >= kMinDensityStep)) return;
@@ -971,6 +992,30 @@ void FitSession::measure_density_exponent(ContrastSearch& st) const {
             st.s_at_raise[c] > 0.0 && std::abs(st.delta_last[c]) <= near && std::abs(st.delta_at_raise[c]) <= near)
             sum += std::log(st.s_last[c] / st.s_at_raise[c]) / log_gain, ++n;
     if (n > 0) st.alpha = std::clamp(sum / n, kDensityExponentMin, kDensityExponentMax);
+}
+
+FitStart start_from(const FitOutcome& fit) {
+    FitStart start;
+    start.ks = fit.ks;
+    start.contrast = fit.contrast;
+    for (int c = 0; c < 3; ++c)  // brightness_slopes' fallback where none was measured
+        start.brightness_slope[c] = fit.brightness_slope[c] > 0.0 ? fit.brightness_slope[c] : 1.0;
+    start.exposure = fit.exposure;
+    start.exposure_matched = fit.exposure_matched;
+    start.density_scale_max = fit.density_scale_max;
+    start.spp = fit.spp;
+    start.spread_spp = fit.spread_spp;
+    return start;
+}
+
+std::string no_room_for_sharper_stone(const FitOutcome& fit) {
+    if (!fit.converged) return "the fit did not converge";
+    if (!(fit.density_scale > fit.density_scale_start))
+        return "the density scale stayed at the volume's own, where light spreads over many voxels";
+    // Where the density could not rise by another step, it is at its ceiling.
+    if (fit.density_scale * kMinDensityStep > fit.density_scale_max)
+        return "the density scale reached its ceiling";
+    return "";
 }
 
 }  // namespace jade

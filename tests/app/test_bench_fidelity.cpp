@@ -114,6 +114,7 @@ TEST_CASE("bench fidelity's two sides: the paper's method as §4–5 give it, th
     CHECK(paper.noise.bands == 0.0);
     CHECK_FALSE(paper.noise.veins);
     CHECK(paper.noise.sharpen == 0.0);
+    CHECK(paper.sharper_stone == 0.0);  // and no sharper stone after the fit
     CHECK(paper.match == MatchMode::PerChannel);
     CHECK(paper.optics.da == 0.1);
     CHECK(paper.optics.extinction == Extinction::Paper);
@@ -125,6 +126,7 @@ TEST_CASE("bench fidelity's two sides: the paper's method as §4–5 give it, th
     CHECK(def.structure == pipeline.structure);
     CHECK(def.match == pipeline.match);
     CHECK(def.noise.sharpen == kDefaultSharpen);
+    CHECK(def.sharper_stone == kSharperStone);
     CHECK(def.noise.veins);
     CHECK(def.optics.da == pipeline.optics.da);
     CHECK(def.optics.extinction == pipeline.optics.extinction);

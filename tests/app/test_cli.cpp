@@ -8,6 +8,8 @@
 #include "jade/io/vdb_io.h"
 #include "jade/volume/sharpen.h"
 
+#include <nlohmann/json.hpp>
+
 using jade::ImageF32;
 using jade::read_image_f32;
 
@@ -181,6 +183,9 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
 
     require_clean_failure(dir, "volume --photo " + demo + " --k 2" + out, "--k");
     require_clean_failure(dir, "volume --photo " + demo + " --sharpen -1" + out, "--sharpen must be between 0");
+    require_clean_failure(dir, "volume --photo " + demo + " --sharpen much" + out,
+                          "--sharpen must be 'auto' or an amount");
+    require_clean_failure(dir, "volume --photo " + demo + " --sharpen 1x" + out, "not '1x'");
     require_clean_failure(dir, "volume --photo " + demo + " --sharpen 2 --sharpen-radius 0" + out,
                           "--sharpen-radius must be between 0.25");
     require_clean_failure(dir, "volume --photo " + demo + " --resolution abc" + out, "--resolution");
@@ -642,6 +647,67 @@ TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back
         // |dA| < 1 leaves k_s free within about 1 / (5..15 levels per unit).
         CHECK(std::abs(k - truth[c]) < 0.12);
     }
+}
+
+TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling, a sharper stone is fitted too",
+          "[cli][fit]") {
+    // Onyx010 on the cow at this size: the first fit raises the density scale
+    // from 20 and converges below its ceiling of 160, so the volume sharpened
+    // by kSharperStone instead of kDefaultSharpen is fitted from its outcome
+    // (docs/design.md, "Sharpening").
+    TempDir dir;
+    const std::string base = "--photo " + std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx010_1K_color.jpg" +
+                             " --mesh " + kCow +
+                             " --resolution 48 --width 64 --height 64 --spp 16 --fit-width 32 --fit-spp 16 --out ";
+    const Result r = run(dir, base + dir.file("auto"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    const nlohmann::json report = nlohmann::json::parse(slurp(dir.file("auto/report.json")));
+    REQUIRE(report.contains("sharpening"));
+    const nlohmann::json& sharpening = report["sharpening"];
+    CHECK(sharpening["first"] == jade::kDefaultSharpen);
+    CHECK(sharpening["sharper"] == jade::kSharperStone);
+    REQUIRE(sharpening["tried"] == true);
+    const bool kept = sharpening["kept"];
+    // Kept exactly where its fit converged; the fit not kept is reported whole.
+    const nlohmann::json& sharper_fit = kept ? report["fit"] : sharpening["sharper_fit"];
+    const nlohmann::json& first_fit = kept ? sharpening["first_fit"] : report["fit"];
+    CHECK(sharper_fit["converged"] == kept);
+    CHECK(first_fit["converged"] == true);
+    CHECK(first_fit["density_scale"] > first_fit["density_scale_start"]);
+    // It starts where the first ended, under the same ceiling and exposure.
+    CHECK(sharper_fit["density_scale_start"] == first_fit["density_scale"]);
+    CHECK(sharper_fit["ks_start"] == first_fit["ks"]);
+    CHECK(sharper_fit["contrast_start"] == first_fit["contrast"]);
+    CHECK(sharper_fit["exposure"] == first_fit["exposure"]);
+    CHECK(sharper_fit["exposure_matched"] == true);
+    const double kept_amount = kept ? jade::kSharperStone : jade::kDefaultSharpen;
+    CHECK(report["volume"]["sharpen"] == kept_amount);
+    CHECK(jade::read_material_vdb(dir.file("auto/volume.vdb")).noise.sharpen == kept_amount);
+    // fit.csv: the first fit's rows, then the sharper stone's, which renders
+    // nothing at the k_s bounds (its first row is at the first's outcome).
+    const auto rows = csv_rows(dir.file("auto/fit.csv"));
+    REQUIRE(rows.size() > 2);
+    CHECK_THAT(rows[0], Catch::EndsWith(",sharpen"));
+    std::size_t first_rows = 0, sharper_rows = 0;
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        const bool sharper = rows[i].substr(rows[i].rfind(',') + 1) == "1";
+        CHECK((sharper ? first_rows > 0 : sharper_rows == 0));  // the first's rows all come first
+        ++(sharper ? sharper_rows : first_rows);
+        CHECK(std::stoi(rows[i]) == int(i - 1));                // iterations run on
+    }
+    CHECK(sharper_rows >= 1);
+    CHECK_THAT(r.out, Catch::Contains("the sharper stone (sharpening 1, from 0.5)"));
+
+    // An amount given: that sharpening alone.
+    const Result given = run(dir, base + dir.file("given") + " --sharpen 0.5");
+    INFO(given.out << given.err);
+    REQUIRE(given.code == 0);
+    const nlohmann::json plain = nlohmann::json::parse(slurp(dir.file("given/report.json")));
+    CHECK_FALSE(plain.contains("sharpening"));
+    CHECK(plain["volume"]["sharpen"] == jade::kDefaultSharpen);
+    CHECK(plain["fit"] == first_fit);  // the same first fit
+    CHECK_THAT(given.out, !Catch::Contains("sharper stone"));
 }
 
 TEST_CASE("pipeline: the brightness check reads the final render's first quarter, unless a budget could cut it",

@@ -526,6 +526,32 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
     CHECK(out.density_scale <= 8.0 * start);
     // Every record at the fitted density scale is one of the last steps.
     CHECK(out.records.back().density_scale == out.density_scale);
+    CHECK(out.density_scale_max == 8.0 * start);
+
+    // Started from that outcome (the sharper stone's fit, app/pipeline.h), a
+    // fit of the same volume at the fitted density scale renders nothing at
+    // the k_s bounds and no k_s search: its first step is at the outcome,
+    // where A and S matched, so it converges there, under the same ceiling.
+    CHECK(no_room_for_sharper_stone(out).empty());
+    MaterialVolume fitted = t.volume;
+    fitted.optics.density_scale = out.density_scale;
+    FitOptions again = make;
+    again.start = start_from(out);
+    again.max_renders = kMinContrastRenders;
+    FitSession warm(fitted, t.scene, t.camera, settings, photo, again);
+    const FitOutcome resumed = warm.run();
+    INFO("started from the outcome: " << resumed.records.size() << " rows; " << resumed.reason[0] << " "
+                                      << resumed.reason[1] << " " << resumed.reason[2]);
+    CHECK(resumed.converged);
+    const auto step = std::find_if(resumed.records.begin(), resumed.records.end(),
+                                   [](const FitRecord& r) { return !r.shading; });
+    REQUIRE(step != resumed.records.end());
+    CHECK(step->ks == out.ks);
+    CHECK(step->contrast == out.contrast);
+    CHECK(resumed.exposure == out.exposure);
+    CHECK(resumed.density_scale_start == out.density_scale);
+    CHECK(resumed.density_scale_max == out.density_scale_max);
+    CHECK(resumed.renders <= 3);  // one step: a render and its shading (and a fitting-size row)
 
     // Held at its own density scale, the fit tries contrasts above the
     // ceiling, and above those fitted with the density scale (a few steps

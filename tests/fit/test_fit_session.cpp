@@ -169,3 +169,30 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
     // The size matters here: without the check, a channel is off by more than the tolerance.
     CHECK(std::max({std::abs(before[0]), std::abs(before[1]), std::abs(before[2])}) > 1.0);
 }
+
+TEST_CASE("sharper stone: room only where the fit converged and raised the density scale short of its ceiling",
+          "[fitter][fit-session]") {
+    FitOutcome fit;
+    fit.converged = true;
+    fit.density_scale_start = 20.0;
+    fit.density_scale_max = 160.0;
+    fit.density_scale = 71.0;  // Onyx010 on the cow
+    CHECK(no_room_for_sharper_stone(fit).empty());
+    fit.density_scale = 160.0;  // the demo: at the ceiling
+    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("ceiling"));
+    fit.density_scale = 150.0;  // short of it by less than a step of density
+    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("ceiling"));
+    fit.density_scale = 20.0;  // the marbles: at the volume's own
+    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("the volume's own"));
+    fit.density_scale = 71.0;
+    fit.converged = false;
+    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("did not converge"));
+}
+
+TEST_CASE("a fit started from another's outcome: only under --fit contrast", "[fitter][fit-session]") {
+    FitOptions options;
+    options.start = FitStart{};
+    CHECK_NOTHROW(options.validate());
+    options.method = FitMethod::Bisect;
+    CHECK_THROWS_WITH(options.validate(), Catch::Contains("--fit contrast"));
+}

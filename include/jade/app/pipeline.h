@@ -27,6 +27,12 @@ struct PipelineOptions {
     // The paper's fBm, or the resolution and seed for an estimate; either
     // sharpened by kDefaultSharpen unless told otherwise (volume/sharpen.h).
     NoiseParams noise = default_photo_noise();
+    // Where the fit of a volume built from the photo (under --fit contrast)
+    // leaves room for a sharper stone (no_room_for_sharper_stone), the same
+    // volume sharpened by this much instead is fitted from that fit's outcome
+    // and kept where its fit converges (docs/design.md, "Sharpening"). 0 (or
+    // no more than noise.sharpen): none, as where --sharpen is given.
+    double sharper_stone = kSharperStone;
     StructureMode structure = StructureMode::Photo;
     MatchMode match = MatchMode::Joint;
     OpticalParams optics;             // for a volume built from the photo
@@ -67,9 +73,20 @@ struct BrightnessCheck {
     bool corrected() const { return ks_after != ks_before; }
 };
 
+// The sharper stone's fit (PipelineOptions::sharper_stone), where it was
+// considered: why it was not tried, or whether it was kept.
+struct SharperStone {
+    double first = 0.0, sharper = 0.0;  // the sharpening of the first fit's volume and of the sharper one
+    std::string not_tried;              // why the sharper stone was not fitted; "" where it was
+    bool kept = false;                  // its fit converged: it is the outcome, its volume the one written
+    FitOutcome other;                   // the fit not kept: the first, or the sharper stone's
+    double seconds = 0.0;               // building the sharper volume and fitting it
+};
+
 struct PipelineResult {
     std::string out_dir;
-    FitOutcome fit;
+    FitOutcome fit;                   // the fit of the volume written
+    std::optional<SharperStone> sharper;
     std::optional<BrightnessCheck> brightness_check;
     StructureEstimate structure;      // when the structure was estimated from the photo
     bool structure_estimated = false;

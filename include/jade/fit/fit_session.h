@@ -52,6 +52,21 @@ constexpr int kMinSpreadSpp = 16;
 // render or more.
 constexpr int kMaxSpreadSppGain = 4;
 
+// What a fit takes from another's outcome on a volume alike, to start from
+// (the sharper stone's fit, app/pipeline.h): its k_s, contrast, exposure,
+// dA/dk_s, density scale's ceiling and sample counts. The k_s search and
+// the renders at both k_s bounds are skipped: the first contrast step
+// judges A at the final size, where that fit matched it. The density scale
+// starts from the volume's own, which the caller sets to that fit's.
+struct FitStart {
+    std::array<double, 3> ks{}, contrast{1, 1, 1};
+    std::array<double, 3> brightness_slope{1, 1, 1};  // dA/dk_s (FitOutcome::brightness_slope)
+    float exposure = 1.f;
+    bool exposure_matched = false;   // to the photo (FitSession::mark_clipped_channels)
+    double density_scale_max = 0.0;  // FitOutcome::density_scale_max
+    int spp = 0, spread_spp = 0;     // of its fitting renders and of its S_material renders
+};
+
 struct FitOptions {
     FitMethod method = FitMethod::Contrast;
     std::optional<std::array<double, 3>> ks_start;  // default: the volume's own k_s
@@ -74,8 +89,20 @@ struct FitOptions {
     int max_renders = 24;
     double k_max = 4.0;         // FitLimits::k_max; k_min follows from the volume
     float exposure = 0.f;       // 0 = from the renders at both k_s bounds
+    // A start from another fit's outcome (FitStart above; --fit contrast
+    // only).
+    std::optional<FitStart> start;
     void validate() const;      // throws jade::Error naming the flag
 };
+
+// The fewest renders --fit contrast may be given: 2 at the k_s bounds, then
+// steps of a render and its shading render (and a render at the fitting size
+// when S is measured at the final one).
+constexpr int kMinContrastRenders = 6;
+
+// The most --fit contrast raises the density scale, as a factor of the
+// volume's own (docs/design.md, "Contrast").
+constexpr double kMaxDensityGain = 8.0;
 
 // One fitting render: a row of fit.csv.
 struct FitRecord {
@@ -85,6 +112,7 @@ struct FitRecord {
     std::array<double, 3> ks{}, a_photo{}, a_render{}, a_sigma{}, delta{}, distance{};
     std::array<double, 3> contrast{1, 1, 1};
     double density_scale = 0.0;                    // OpticalParams::density_scale of the render
+    double sharpen = 0.0;                          // the volume's sharpening (NoiseParams::sharpen)
     std::array<double, 3> s_photo{}, s_render{};   // spread S of the levels (fit/appearance.h)
     // S_material (fit/display.h) and the photo's S at the scale of its blocks
     // (fit/appearance.h); -1 where no shading render was made.
@@ -115,6 +143,9 @@ struct FitOutcome {
     // The density scale fitted (--fit contrast; the volume's own otherwise)
     // and the volume's own, where the fit started.
     double density_scale = 0.0, density_scale_start = 0.0;
+    // The most the fit could raise it to: kMaxDensityGain times the volume's
+    // own, or a start's ceiling (FitStart).
+    double density_scale_max = 0.0;
     // S_material and the photo's S at the same scale (the final render's
     // pixels, in blocks of material_block) at the chosen k_s and contrast
     // (--fit contrast only; -1 otherwise).
@@ -151,6 +182,9 @@ struct FitOutcome {
     double estimated_error = 0.0;         // of the first fitting render
     double seconds = 0.0;
 };
+
+// A fit's outcome as the start of another (FitOptions::start).
+FitStart start_from(const FitOutcome& fit);
 
 class FitSession {
 public:
@@ -227,9 +261,10 @@ private:
                      How how) const;
     FitRecord& record(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, const Film& film);
     void bracket(FitDriver& driver);
+    void fit_from_bounds();
     void finish(const FitDriver& driver);
     struct ContrastSearch;
-    void fit_contrast();
+    void fit_contrast(const std::array<double, 3>& brightness_slope);
     MaterialSpread choose_spread_block(ContrastSearch& search, const StepRenders& step);
     bool raise_spread_spp(ContrastSearch& search);
     std::string hidden_spread_warning(int c, const QuietBlock& q, double g, const SpreadReading& r, int spp) const;
@@ -284,5 +319,15 @@ private:
     Progress* progress_ = nullptr;
     FitOutcome outcome_;
 };
+
+// Why a fit leaves no room for a sharper stone, or "" where it does
+// (docs/design.md, "Sharpening"): every channel converged, and the density
+// scale rose above the volume's own and stopped short of its ceiling. At the
+// volume's own translucency the light's diffusion length is many voxels and
+// a sharper stone's finer structure blurs out on the way (Marble01 at 20,
+// sharpened fourfold, showed nothing more); at the ceiling the sharper
+// stone's spread, which its contrast cannot all give, has no density left to
+// come from (the demo's blue ran to contrast 16 at twice the sharpening).
+std::string no_room_for_sharper_stone(const FitOutcome& fit);
 
 }  // namespace jade
