@@ -68,8 +68,8 @@ std::string number(double v) {
     return buf;
 }
 
-// The amount --sharpen gives: a number, or 'auto' (kDefaultSharpen, the
-// first fit's; PipelineOptions::sharper_stone then tries more).
+// The amount --sharpen gives: a number, or for 'auto' kDefaultSharpen (the
+// `volume` command's; the fit chooses its own: PipelineOptions::sharpen_from_fit).
 double sharpen_amount(const std::string& text) {
     if (text == "auto") return jade::kDefaultSharpen;
     std::size_t used = 0;
@@ -140,11 +140,12 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
     cmd.add_option("--sharpen", o.sharpen,
                    "Unsharp mask on the matched levels, v + amount (v - Gaussian blur of v): fine structure "
-                   "(veins, layers) stronger, so that more of it survives the light's diffusion. 'auto': " +
-                       number(jade::kDefaultSharpen) + ", and where the fit leaves room (it raised the density "
-                       "scale, short of its ceiling) a second fit of the stone sharpened by " +
-                       number(jade::kSharperStone) + ", kept where it converges (`volume`: " +
-                       number(jade::kDefaultSharpen) + "); an amount: that one alone; 0 = none (the paper's)")
+                   "(veins, layers) stronger, so that more of it survives the light's diffusion. 'auto': the "
+                   "fit chooses: it fits the unsharpened stone, and where it raised the density scale, fits it "
+                   "again sharpened by " + number(jade::kSharperStone) + " (" + number(jade::kDefaultSharpen) +
+                       " where the density reached its ceiling), kept where that fit converges (`volume`, which "
+                       "fits nothing: " + number(jade::kDefaultSharpen) + "); an amount: that one alone; 0 = none "
+                       "(the paper's)")
         ->capture_default_str();
     cmd.add_option("--sharpen-radius", o.noise.sharpen_radius,
                    "With --sharpen: the blur's standard deviation, voxels")
@@ -725,8 +726,9 @@ int run_pipeline(PipelineFlags& p) {
     o.photo = p.volume.photo;
     o.mask = p.volume.mask;
     o.noise = p.volume.noise;
-    o.noise.sharpen = sharpen_amount(p.volume.sharpen);
-    o.sharper_stone = p.volume.sharpen == "auto" ? jade::kSharperStone : 0.0;
+    // 'auto': the first fit's volume unsharpened, the fit choosing after it.
+    o.sharpen_from_fit = p.volume.sharpen == "auto";
+    o.noise.sharpen = o.sharpen_from_fit ? 0.0 : sharpen_amount(p.volume.sharpen);
     o.structure = jade::parse_structure_mode(p.volume.structure);
     o.match = jade::parse_match_mode(p.volume.match);
     o.optics = p.volume.optics;

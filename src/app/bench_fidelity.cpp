@@ -160,8 +160,8 @@ PipelineOptions default_method_options(const FidelityBenchOptions& b, int seed) 
 PipelineOptions paper_method_options(const FidelityBenchOptions& b, int seed) {
     PipelineOptions o = common_options(b, "paper", seed);
     o.structure = StructureMode::Fbm;
-    o.noise.sharpen = 0.0;  // §4.2's levels as matched, and no sharper stone
-    o.sharper_stone = 0.0;
+    o.noise.sharpen = 0.0;  // §4.2's levels as matched, whatever the fit
+    o.sharpen_from_fit = false;
     o.match = MatchMode::PerChannel;
     o.optics.da = 0.1;
     o.optics.extinction = Extinction::Paper;

@@ -80,23 +80,24 @@ struct FittedVolume {
     }
 };
 
-// The sharper stone (PipelineOptions::sharper_stone): where `first`'s fit
-// leaves room, the same volume sharpened more, fitted from that fit's
-// outcome with half its budget of renders, and kept where that fit
-// converges. Returns the volume and fit kept.
+// The sharper stone (PipelineOptions::sharpen_from_fit): the sharpening
+// `first`'s fit asks for (sharpening_for), where it is more than its own,
+// fitted from that fit's outcome with half its budget of renders, and kept
+// where that fit converges. Returns the volume and fit kept.
 std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const Photo& photo,
                                                 const PreparedScene& prep, std::unique_ptr<FittedVolume> first,
                                                 PipelineResult& res) {
-    const double amount = first->volume.noise.sharpen;
-    if (!o.volume.empty() || o.fit.method != FitMethod::Contrast || !(o.sharper_stone > amount)) return first;
+    if (!o.sharpen_from_fit || !o.volume.empty() || o.fit.method != FitMethod::Contrast) return first;
+    const SharpeningChoice choice = sharpening_for(first->outcome);
     SharperStone& sharper = res.sharper.emplace();
-    sharper.first = amount;
-    sharper.sharper = o.sharper_stone;
-    sharper.not_tried = no_room_for_sharper_stone(first->outcome);
-    if (!sharper.not_tried.empty()) return first;
+    sharper.first = first->volume.noise.sharpen;
+    sharper.sharper = choice.amount;
+    sharper.why = choice.why;
+    sharper.tried = choice.amount > sharper.first;
+    if (!sharper.tried) return first;
     const Stopwatch clock;
     NoiseParams noise = first->volume.noise;
-    noise.sharpen = o.sharper_stone;
+    noise.sharpen = choice.amount;
     std::unique_ptr<Progress> bar;
     if (o.progress) bar = std::make_unique<Progress>("the sharper stone's levels", std::size_t(noise.resolution));
     MaterialVolume volume = build_material_volume(photo, noise, o.match, o.optics, bar.get());
@@ -294,7 +295,7 @@ RenderJob replay_job(const PipelineOptions& o, const PreparedScene& prep, const 
 // fit.csv's rows: the first fit's, then the sharper stone's where one was
 // fitted, their iterations and seconds running on.
 std::vector<FitRecord> fit_rows(const PipelineResult& res) {
-    if (!res.sharper || !res.sharper->not_tried.empty()) return res.fit.records;
+    if (!res.sharper || !res.sharper->tried) return res.fit.records;
     const FitOutcome& first = res.sharper->kept ? res.sharper->other : res.fit;
     const FitOutcome& sharper = res.sharper->kept ? res.fit : res.sharper->other;
     std::vector<FitRecord> rows = first.records;

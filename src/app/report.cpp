@@ -228,15 +228,12 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
     return j;
 }
 
-// The sharper stone's fit (PipelineOptions::sharper_stone), where it was
-// considered: the fit not kept in full.
+// The sharper stone's fit (PipelineOptions::sharpen_from_fit), where it was
+// considered: the sharpening chosen and why, and the fit not kept in full.
 nlohmann::json sharper_json(const PipelineOptions& o, const SharperStone& sh) {
-    nlohmann::json j = {{"first", sh.first}, {"sharper", sh.sharper}, {"tried", sh.not_tried.empty()},
+    nlohmann::json j = {{"first", sh.first}, {"chosen", sh.sharper}, {"why", sh.why}, {"tried", sh.tried},
                         {"kept", sh.kept}};
-    if (!sh.not_tried.empty()) {
-        j["not_tried"] = sh.not_tried;
-        return j;
-    }
+    if (!sh.tried) return j;
     j["seconds"] = sh.seconds;
     j[sh.kept ? "first_fit" : "sharper_fit"] = fit_json(o, sh.other);
     return j;
@@ -331,15 +328,15 @@ namespace {
 // The sharper stone on the console: why it was not tried, or its fit's
 // outcome beside the other one.
 void print_sharper_summary(const SharperStone& sh, const FitOutcome& kept) {
-    if (!sh.not_tried.empty()) {
-        std::printf("  sharpening %g; a sharper stone (%g) not tried: %s\n", sh.first, sh.sharper, sh.not_tried.c_str());
+    if (!sh.tried) {
+        std::printf("  sharpening %g: %s\n", sh.first, sh.why.c_str());
         return;
     }
     const FitOutcome& first = sh.kept ? sh.other : kept;
     const FitOutcome& sharper = sh.kept ? kept : sh.other;
-    std::printf("  the sharper stone (sharpening %g, from %g): fitted from the first fit's outcome in %d renders, %.1f s: "
+    std::printf("  sharpening %g (%s): fitted from the first fit's outcome (sharpening %g) in %d renders, %.1f s: "
                 "%s; the first fit: %d renders, contrast (%.3f, %.3f, %.3f), density scale %.4g\n",
-                sh.sharper, sh.first, sharper.renders, sh.seconds,
+                sh.sharper, sh.why.c_str(), sh.first, sharper.renders, sh.seconds,
                 sh.kept ? "converged, kept" : "NOT converged, the first fit's volume kept", first.renders,
                 first.contrast[0], first.contrast[1], first.contrast[2], first.density_scale);
 }
@@ -366,7 +363,7 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
         std::snprintf(goal, sizeof goal, "|dA| < %g in every channel, |dS| < %g where the contrast was fitted",
                       fit.limits.tolerance, o.fit.s_tolerance);
     // Both fits' renders where the sharper stone was fitted too.
-    const int renders = fit.renders + (r.sharper && r.sharper->not_tried.empty() ? r.sharper->other.renders : 0);
+    const int renders = fit.renders + (r.sharper && r.sharper->tried ? r.sharper->other.renders : 0);
     std::printf("fit (%s): %d renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
                 "(%.3f, %.3f, %.3f); %s\n",
                 to_string(o.fit.method), renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],

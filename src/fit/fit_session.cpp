@@ -1008,14 +1008,14 @@ FitStart start_from(const FitOutcome& fit) {
     return start;
 }
 
-std::string no_room_for_sharper_stone(const FitOutcome& fit) {
-    if (!fit.converged) return "the fit did not converge";
+SharpeningChoice sharpening_for(const FitOutcome& fit) {
+    if (!fit.converged) return {0.0, "the fit did not converge"};
     if (!(fit.density_scale > fit.density_scale_start))
-        return "the density scale stayed at the volume's own, where light spreads over many voxels";
+        return {0.0, "the density scale stayed at the volume's own, where light spreads over many voxels"};
     // Where the density could not rise by another step, it is at its ceiling.
     if (fit.density_scale * kMinDensityStep > fit.density_scale_max)
-        return "the density scale reached its ceiling";
-    return "";
+        return {kDefaultSharpen, "the density scale rose to its ceiling"};
+    return {kSharperStone, "the density scale rose, short of its ceiling"};
 }
 
 }  // namespace jade

@@ -651,10 +651,10 @@ TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back
 
 TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling, a sharper stone is fitted too",
           "[cli][fit]") {
-    // Onyx010 on the cow at this size: the first fit raises the density scale
-    // from 20 and converges below its ceiling of 160, so the volume sharpened
-    // by kSharperStone instead of kDefaultSharpen is fitted from its outcome
-    // (docs/design.md, "Sharpening").
+    // Onyx010 on the cow at this size: the first fit, of the unsharpened
+    // stone, raises the density scale from 20 and converges below its
+    // ceiling of 160, so the stone sharpened by kSharperStone is fitted from
+    // its outcome (docs/design.md, "Sharpening").
     TempDir dir;
     const std::string base = "--photo " + std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx010_1K_color.jpg" +
                              " --mesh " + kCow +
@@ -665,8 +665,9 @@ TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling
     const nlohmann::json report = nlohmann::json::parse(slurp(dir.file("auto/report.json")));
     REQUIRE(report.contains("sharpening"));
     const nlohmann::json& sharpening = report["sharpening"];
-    CHECK(sharpening["first"] == jade::kDefaultSharpen);
-    CHECK(sharpening["sharper"] == jade::kSharperStone);
+    CHECK(sharpening["first"] == 0.0);
+    CHECK(sharpening["chosen"] == jade::kSharperStone);
+    CHECK_THAT(sharpening["why"].get<std::string>(), Catch::Contains("short of its ceiling"));
     REQUIRE(sharpening["tried"] == true);
     const bool kept = sharpening["kept"];
     // Kept exactly where its fit converged; the fit not kept is reported whole.
@@ -681,7 +682,7 @@ TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling
     CHECK(sharper_fit["contrast_start"] == first_fit["contrast"]);
     CHECK(sharper_fit["exposure"] == first_fit["exposure"]);
     CHECK(sharper_fit["exposure_matched"] == true);
-    const double kept_amount = kept ? jade::kSharperStone : jade::kDefaultSharpen;
+    const double kept_amount = kept ? jade::kSharperStone : 0.0;
     CHECK(report["volume"]["sharpen"] == kept_amount);
     CHECK(jade::read_material_vdb(dir.file("auto/volume.vdb")).noise.sharpen == kept_amount);
     // fit.csv: the first fit's rows, then the sharper stone's, which renders
@@ -697,17 +698,17 @@ TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling
         CHECK(std::stoi(rows[i]) == int(i - 1));                // iterations run on
     }
     CHECK(sharper_rows >= 1);
-    CHECK_THAT(r.out, Catch::Contains("the sharper stone (sharpening 1, from 0.5)"));
+    CHECK_THAT(r.out, Catch::Contains("sharpening 1 (the density scale rose, short of its ceiling)"));
 
-    // An amount given: that sharpening alone.
-    const Result given = run(dir, base + dir.file("given") + " --sharpen 0.5");
+    // An amount given: that sharpening alone. At 0, the first fit above.
+    const Result given = run(dir, base + dir.file("given") + " --sharpen 0");
     INFO(given.out << given.err);
     REQUIRE(given.code == 0);
     const nlohmann::json plain = nlohmann::json::parse(slurp(dir.file("given/report.json")));
     CHECK_FALSE(plain.contains("sharpening"));
-    CHECK(plain["volume"]["sharpen"] == jade::kDefaultSharpen);
-    CHECK(plain["fit"] == first_fit);  // the same first fit
-    CHECK_THAT(given.out, !Catch::Contains("sharper stone"));
+    CHECK(plain["volume"]["sharpen"] == 0.0);
+    CHECK(plain["fit"] == first_fit);
+    CHECK_THAT(given.out, !Catch::Contains("sharpening"));
 }
 
 TEST_CASE("pipeline: the brightness check reads the final render's first quarter, unless a budget could cut it",

@@ -532,7 +532,7 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
     // fit of the same volume at the fitted density scale renders nothing at
     // the k_s bounds and no k_s search: its first step is at the outcome,
     // where A and S matched, so it converges there, under the same ceiling.
-    CHECK(no_room_for_sharper_stone(out).empty());
+    CHECK(sharpening_for(out).amount == kSharperStone);
     MaterialVolume fitted = t.volume;
     fitted.optics.density_scale = out.density_scale;
     FitOptions again = make;

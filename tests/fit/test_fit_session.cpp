@@ -170,23 +170,25 @@ TEST_CASE("fit session: fitted at a quarter of the size, the brightness check br
     CHECK(std::max({std::abs(before[0]), std::abs(before[1]), std::abs(before[2])}) > 1.0);
 }
 
-TEST_CASE("sharper stone: room only where the fit converged and raised the density scale short of its ceiling",
-          "[fitter][fit-session]") {
+TEST_CASE("the sharpening a fit asks for: by how far it raised the density scale", "[fitter][fit-session]") {
     FitOutcome fit;
     fit.converged = true;
     fit.density_scale_start = 20.0;
     fit.density_scale_max = 160.0;
     fit.density_scale = 71.0;  // Onyx010 on the cow
-    CHECK(no_room_for_sharper_stone(fit).empty());
+    CHECK(sharpening_for(fit).amount == kSharperStone);
     fit.density_scale = 160.0;  // the demo: at the ceiling
-    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("ceiling"));
+    CHECK(sharpening_for(fit).amount == kDefaultSharpen);
+    CHECK_THAT(sharpening_for(fit).why, Catch::Contains("ceiling"));
     fit.density_scale = 150.0;  // short of it by less than a step of density
-    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("ceiling"));
+    CHECK(sharpening_for(fit).amount == kDefaultSharpen);
     fit.density_scale = 20.0;  // the marbles: at the volume's own
-    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("the volume's own"));
+    CHECK(sharpening_for(fit).amount == 0.0);
+    CHECK_THAT(sharpening_for(fit).why, Catch::Contains("the volume's own"));
     fit.density_scale = 71.0;
     fit.converged = false;
-    CHECK_THAT(no_room_for_sharper_stone(fit), Catch::Contains("did not converge"));
+    CHECK(sharpening_for(fit).amount == 0.0);
+    CHECK_THAT(sharpening_for(fit).why, Catch::Contains("did not converge"));
 }
 
 TEST_CASE("a fit started from another's outcome: only under --fit contrast", "[fitter][fit-session]") {

@@ -100,7 +100,8 @@ int run_fidelity_benchmark(const FidelityBenchOptions& options);
 
 // The pipeline options of the two methods for noise and render seed `seed`.
 // The default's: the pipeline's own (the structure from the photo, joint
-// matching, sharpened levels, the contrast fit), with veins where asked.
+// matching, the sharpening the fit chooses, the contrast fit), with veins
+// where asked.
 // The paper's method as §4–5 give it: per-channel histogram matching of
 // unsharpened levels, d_a = 0.1, §5.1's extinction, the fBm with its fixed
 // frequency and amplitude ratio, and k_s stepped by 0.01 (Algorithm 2) with

@@ -25,14 +25,17 @@ struct PipelineOptions {
     std::string volume;               // a jaderender .vdb to fit instead of building one from the
                                       // photo (its d_s, d_a, density scale and noise are kept)
     // The paper's fBm, or the resolution and seed for an estimate; either
-    // sharpened by kDefaultSharpen unless told otherwise (volume/sharpen.h).
-    NoiseParams noise = default_photo_noise();
-    // Where the fit of a volume built from the photo (under --fit contrast)
-    // leaves room for a sharper stone (no_room_for_sharper_stone), the same
-    // volume sharpened by this much instead is fitted from that fit's outcome
-    // and kept where its fit converges (docs/design.md, "Sharpening"). 0 (or
-    // no more than noise.sharpen): none, as where --sharpen is given.
-    double sharper_stone = kSharperStone;
+    // one's levels sharpened by noise.sharpen (volume/sharpen.h).
+    NoiseParams noise;
+    // Where the volume is built from the photo and fitted under --fit
+    // contrast (`--sharpen auto`, the default), its first fit's outcome
+    // chooses a sharpening (sharpening_for: none, kDefaultSharpen or
+    // kSharperStone, by how far the fit raised the density scale); the
+    // volume sharpened so is fitted from that fit's outcome and kept where
+    // its fit converges (docs/design.md, "Sharpening"). The first volume's
+    // levels are then noise.sharpen's, 0 by default. false: noise.sharpen
+    // alone (`--sharpen β`).
+    bool sharpen_from_fit = true;
     StructureMode structure = StructureMode::Photo;
     MatchMode match = MatchMode::Joint;
     OpticalParams optics;             // for a volume built from the photo
@@ -73,11 +76,13 @@ struct BrightnessCheck {
     bool corrected() const { return ks_after != ks_before; }
 };
 
-// The sharper stone's fit (PipelineOptions::sharper_stone), where it was
+// The sharper stone's fit (PipelineOptions::sharpen_from_fit), where it was
 // considered: why it was not tried, or whether it was kept.
 struct SharperStone {
-    double first = 0.0, sharper = 0.0;  // the sharpening of the first fit's volume and of the sharper one
-    std::string not_tried;              // why the sharper stone was not fitted; "" where it was
+    double first = 0.0;                 // the sharpening of the first fit's volume
+    double sharper = 0.0;               // the one its outcome chose (sharpening_for; 0 = none)
+    std::string why;                    // why that one (SharpeningChoice::why)
+    bool tried = false;                 // the sharper stone was fitted (it asked for more than `first`)
     bool kept = false;                  // its fit converged: it is the outcome, its volume the one written
     FitOutcome other;                   // the fit not kept: the first, or the sharper stone's
     double seconds = 0.0;               // building the sharper volume and fitting it

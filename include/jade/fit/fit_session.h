@@ -23,6 +23,7 @@
 #include "jade/render/scene.h"
 #include "jade/volume/material_volume.h"
 #include "jade/volume/photo.h"
+#include "jade/volume/sharpen.h"
 
 #include <array>
 #include <optional>
@@ -320,14 +321,21 @@ private:
     FitOutcome outcome_;
 };
 
-// Why a fit leaves no room for a sharper stone, or "" where it does
-// (docs/design.md, "Sharpening"): every channel converged, and the density
-// scale rose above the volume's own and stopped short of its ceiling. At the
-// volume's own translucency the light's diffusion length is many voxels and
-// a sharper stone's finer structure blurs out on the way (Marble01 at 20,
-// sharpened fourfold, showed nothing more); at the ceiling the sharper
-// stone's spread, which its contrast cannot all give, has no density left to
-// come from (the demo's blue ran to contrast 16 at twice the sharpening).
-std::string no_room_for_sharper_stone(const FitOutcome& fit);
+// The sharpening of the levels (volume/sharpen.h) a fit's outcome asks for,
+// and why (docs/design.md, "Sharpening"). The fit shows how far light
+// travels in the stone: where the density scale stayed at the volume's own,
+// it spreads over many voxels and a sharpened structure blurs out on the
+// way (Marble01 at 20, sharpened fourfold, showed nothing more): none. Where
+// the fit raised the density scale short of its ceiling, by a step of
+// density at least, kSharperStone: the density can still rise to pay for
+// the spread a sharper stone moves into the bands transport blurs. At the
+// ceiling, kDefaultSharpen: the demo's blue, whose contrast had nothing
+// left, converged there and not at kSharperStone. None where the fit did
+// not converge.
+struct SharpeningChoice {
+    double amount = 0.0;
+    std::string why;
+};
+SharpeningChoice sharpening_for(const FitOutcome& fit);
 
 }  // namespace jade

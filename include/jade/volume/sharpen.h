@@ -37,26 +37,25 @@ std::array<double, 3> sharpen_levels(std::vector<Rgb8>& levels, int resolution, 
 // its largest contrast; at β = 2 under 5 %; docs/design.md, "Sharpening").
 constexpr double kSharpenClipWarning = 0.05;
 
-// The amount a volume built from a photo is sharpened by first unless told
-// otherwise (--sharpen; the library's NoiseParams keep 0, the paper's
-// levels; kSharperStone below is tried after it where the fit leaves room). At the
-// default radius, on the onyx photos (docs/design.md, "Sharpening"): at 0.5
-// the fits converged and the renders' structure came nearer the photo's,
-// the whole render's D about as it was; at 1 the demo's fit ran its blue
-// contrast to the largest there is, and at 4 both onyx fits tried ran out
-// of renders.
+// The sharpening a fit chooses where it raised the density scale to its
+// ceiling (fit/fit_session.h, sharpening_for), and the one `jaderender
+// volume`, which fits nothing, takes for --sharpen auto (the library's
+// NoiseParams keep 0, the paper's levels). At the default radius, on the
+// onyx photos (docs/design.md, "Sharpening"): at 0.5 the fits converged and
+// the renders' structure came nearer the photo's, the whole render's D
+// about as it was; at 1 the demo's fit ran its blue contrast to the largest
+// there is, and at 4 both onyx fits tried ran out of renders.
 constexpr double kDefaultSharpen = 0.5;
 
-// The amount a second fit tries where the first, at kDefaultSharpen, leaves
-// room for a sharper stone (fit/fit_session.h, no_room_for_sharper_stone;
-// app/pipeline.h): the most measured to converge there. Onyx010's fit on the
-// cow, sharpened by it, rendered with a structure distance of 0.370 against
-// 0.432 at kDefaultSharpen, on the vase 0.517 against 0.583
-// (docs/design.md, "Sharpening").
+// The sharpening a fit chooses where it raised the density scale short of
+// its ceiling (sharpening_for): the most measured to converge there.
+// Onyx010's stone sharpened by it rendered with a structure distance of
+// 0.370 on the cow against 0.432 at kDefaultSharpen, on the vase 0.517
+// against 0.583 (docs/design.md, "Sharpening").
 constexpr double kSharperStone = 1.0;
 
-// The noise options a volume built from a photo starts from: the paper's
-// fBm (NoiseParams' own) sharpened by kDefaultSharpen.
+// The noise options `jaderender volume` builds a volume from a photo with:
+// the paper's fBm (NoiseParams' own) sharpened by kDefaultSharpen.
 NoiseParams default_photo_noise();
 
 // The warning for a sharpening that clipped more than kSharpenClipWarning
