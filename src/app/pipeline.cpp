@@ -68,10 +68,11 @@ struct FittedVolume {
     FitSession session;
     FitOutcome outcome;
 
-    void fit(const PipelineOptions& o, const char* label) {
+    // Fits the volume, counting progress against `max_renders`, the fit's budget.
+    void fit(const PipelineOptions& o, const char* label, int max_renders) {
         std::unique_ptr<Progress> bar;
         if (o.progress && o.fit.method != FitMethod::None)
-            bar = std::make_unique<Progress>(label, std::size_t(o.fit.max_renders));
+            bar = std::make_unique<Progress>(label, std::size_t(max_renders));
         outcome = session.run(bar.get());
         volume.optics.ks = outcome.ks;
         volume.optics.contrast = outcome.contrast;
@@ -109,7 +110,7 @@ std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const 
     fit.start = start_from(first->outcome);
     fit.max_renders = std::max(kMinContrastRenders, o.fit.max_renders / 2);
     auto next = std::make_unique<FittedVolume>(std::move(volume), prep, photo, o.render.settings, fit);
-    next->fit(o, "fitting the sharper stone");
+    next->fit(o, "fitting the sharper stone", fit.max_renders);
     sharper.seconds = clock.seconds();
     sharper.kept = next->outcome.converged;
     if (!sharper.kept) {
@@ -396,7 +397,8 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     res.seconds_volume = clock.seconds();
 
     auto fitted = std::make_unique<FittedVolume>(std::move(volume), *prep, photo, o.render.settings, o.fit);
-    fitted->fit(o, o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast" : "fitting k_s");
+    fitted->fit(o, o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast" : "fitting k_s",
+                o.fit.max_renders);
     res.seconds_fit = fitted->outcome.seconds;
     fitted = fit_sharper_stone(o, photo, *prep, std::move(fitted), res);
     if (res.sharper) res.seconds_fit += res.sharper->seconds;
