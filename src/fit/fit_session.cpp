@@ -261,6 +261,9 @@ FitOutcome FitSession::run(Progress* progress) {
     outcome_.exposure = from ? from->exposure : options_.exposure;
     outcome_.exposure_matched = from ? from->exposure_matched : options_.exposure == 0.f;
     if (from) {
+        // The error the first contrast step chooses its blocks by where the
+        // steps render at the fitting size (choose_spread_block).
+        outcome_.estimated_error = from->estimated_error;
         for (int c = 0; c < 3; ++c) outcome_.ks[c] = std::clamp(from->ks[c], limits_.k_min[c], limits_.k_max);
         outcome_.contrast = from->contrast;
         fit_contrast(from->brightness_slope);
@@ -1005,6 +1008,7 @@ FitStart start_from(const FitOutcome& fit) {
     start.density_scale_max = fit.density_scale_max;
     start.spp = fit.spp;
     start.spread_spp = fit.spread_spp;
+    start.estimated_error = fit.estimated_error;
     return start;
 }
 

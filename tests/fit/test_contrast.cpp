@@ -551,6 +551,7 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
     CHECK(resumed.exposure == out.exposure);
     CHECK(resumed.density_scale_start == out.density_scale);
     CHECK(resumed.density_scale_max == out.density_scale_max);
+    CHECK(resumed.estimated_error == out.estimated_error);  // its blocks chosen as the first's were
     CHECK(resumed.renders <= 3);  // one step: a render and its shading (and a fitting-size row)
 
     // Held at its own density scale, the fit tries contrasts above the

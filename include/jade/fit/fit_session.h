@@ -66,6 +66,7 @@ struct FitStart {
     bool exposure_matched = false;   // to the photo (FitSession::mark_clipped_channels)
     double density_scale_max = 0.0;  // FitOutcome::density_scale_max
     int spp = 0, spread_spp = 0;     // of its fitting renders and of its S_material renders
+    double estimated_error = 0.0;    // of its first fitting render (FitOutcome::estimated_error)
 };
 
 struct FitOptions {
