@@ -55,7 +55,7 @@ constexpr int kMaxSpreadSppGain = 4;
 
 // What a fit takes from another's outcome on a volume alike, to start from
 // (the sharper stone's fit, app/pipeline.h): its k_s, contrast, exposure,
-// dA/dk_s, density scale's ceiling and sample counts. The k_s search and
+// dA/dk_s, density scale's ceiling, sample counts and estimated error. The k_s search and
 // the renders at both k_s bounds are skipped: the first contrast step
 // judges A at the final size, where that fit matched it. The density scale
 // starts from the volume's own, which the caller sets to that fit's.
