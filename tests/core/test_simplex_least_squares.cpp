@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 
@@ -19,6 +21,28 @@ double objective(const std::vector<std::vector<double>>& k, const std::vector<do
         f += r * r;
     }
     return f;
+}
+
+// The least objective over 20 000 random mixtures, sparse (one to four
+// parts, which reach near the optimum more often than dense mixtures), of
+// exponential weights: `add(p, w)` lays a part of weight w into p.
+template <class Add>
+double least_of_random_mixtures(const std::vector<std::vector<double>>& k, const std::vector<double>& h,
+                                std::mt19937& rng, Add add) {
+    std::exponential_distribution<double> e(1.0);
+    double least = 1e9;
+    for (int t = 0; t < 20000; ++t) {
+        std::vector<double> p(k.size(), 0.0);
+        double sum = 0.0;
+        for (int part = 0; part < 1 + t % 4; ++part) {
+            const double w = e(rng);
+            add(p, w);
+            sum += w;
+        }
+        for (double& x : p) x /= sum;
+        least = std::min(least, objective(k, h, p));
+    }
+    return least;
 }
 
 }  // namespace
@@ -49,6 +73,36 @@ TEST_CASE("projection onto the simplex", "[core][simplex]") {
     project_to_simplex(e, MixtureMean{{0.0, 1.0, 2.0}, 1.0});
     CHECK(e[0] == Approx(0.25).epsilon(1e-9));
     CHECK(e[1] == Approx(0.5).epsilon(1e-9));
+}
+
+TEST_CASE("projection onto the simplex: the KKT conditions on random vectors", "[core][simplex]") {
+    // The projection p of v is the one point with p ≥ 0, Σ p = 1 and a τ
+    // such that p_i = v_i − τ where p_i > 0 and v_i ≤ τ where p_i = 0.
+    std::mt19937 rng(11);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::size_t n = 1 + std::size_t(trial) * 7 % 2000;
+        const double spread = std::pow(10.0, trial % 7 - 4);  // from all kept to one kept
+        std::vector<double> v(n);
+        for (double& x : v) x = spread * normal(rng);
+        std::vector<double> p = v;
+        project_to_simplex(p);
+        INFO("trial " << trial << ", n " << n << ", spread " << spread);
+        double sum = 0.0, tau = 0.0;
+        int kept = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            REQUIRE(p[i] >= 0.0);
+            sum += p[i];
+            if (p[i] > 0.0) tau += v[i] - p[i], ++kept;
+        }
+        REQUIRE(kept > 0);
+        tau /= kept;
+        CHECK(sum == Approx(1.0).epsilon(1e-12));
+        for (std::size_t i = 0; i < n; ++i) {
+            if (p[i] > 0.0) CHECK(v[i] - p[i] == Approx(tau).margin(1e-12 * (1.0 + std::abs(tau))));
+            else CHECK(v[i] <= tau + 1e-12 * (1.0 + std::abs(tau)));
+        }
+    }
 }
 
 TEST_CASE("simplex least squares: closed-form minima, and a bound below every mixture", "[core][simplex]") {
@@ -109,23 +163,53 @@ TEST_CASE("simplex least squares: closed-form minima, and a bound below every mi
         CHECK(fit.value - fit.lower_bound <= 1e-3 * fit.value + 1e-12);
         CHECK(std::accumulate(fit.weights.begin(), fit.weights.end(), 0.0) == Approx(1.0));
         std::mt19937 rng(7);
-        std::exponential_distribution<double> e(1.0);
         std::uniform_int_distribution<int> pick(0, 59);
-        double least = 1e9;
-        for (int t = 0; t < 20000; ++t) {
-            // Sparse random mixtures (one to four components) reach near the
-            // optimum more often than dense ones.
-            std::vector<double> p(60, 0.0);
-            const int parts = 1 + t % 4;
-            double sum = 0.0;
-            for (int s = 0; s < parts; ++s) {
-                const double w = e(rng);
-                p[std::size_t(pick(rng))] += w;
-                sum += w;
-            }
-            for (double& x : p) x /= sum;
-            least = std::min(least, objective(k, h, p));
+        const double least =
+            least_of_random_mixtures(k, h, rng, [&](std::vector<double>& p, double w) { p[std::size_t(pick(rng))] += w; });
+        INFO("bound " << fit.lower_bound << ", fit " << fit.value << ", best random " << least);
+        CHECK(fit.lower_bound <= least);
+        CHECK(fit.value <= least);
+    }
+    SECTION("with a mean over 400 columns: the bound is below every one of 20 000 mixtures of that mean") {
+        // Histograms of a ramp of values scaled by a 1 % log grid (as the
+        // least material distance builds them), their means rising with
+        // the scale, against a two-peaked target whose mean is not asked.
+        std::vector<std::vector<double>> k;
+        MixtureMean mean;
+        for (int j = 0; j < 400; ++j) {
+            std::vector<double> col(64, 0.0);
+            const double a = 0.05 * std::pow(1.01, j);
+            for (int v = 1; v <= 100; ++v) col[std::size_t(std::min(63.0, std::floor(a * v * 0.25)))] += 0.01;
+            double m = 0.0;
+            for (int i = 0; i < 64; ++i) m += i * col[std::size_t(i)];
+            k.push_back(col);
+            mean.column_means.push_back(m);
         }
+        mean.mean = 20.0;
+        std::vector<double> h(64, 0.0);
+        h[10] = 0.5;
+        h[40] = 0.5;
+        const SimplexFit fit = simplex_least_squares(k, h, mean, 1e-3);
+        REQUIRE(fit.lower_bound > 0.0);
+        CHECK(fit.value - fit.lower_bound <= 1e-3 * fit.value + 1e-12);
+        double fitted_mean = 0.0;
+        for (std::size_t j = 0; j < k.size(); ++j) fitted_mean += fit.weights[j] * mean.column_means[j];
+        CHECK(fitted_mean == Approx(20.0).epsilon(1e-6));
+        // Random mixtures of the mean: pairs of columns, one on either side
+        // of it, each mixed to the mean, then mixed together.
+        std::vector<std::size_t> under, over;
+        for (std::size_t j = 0; j < k.size(); ++j)
+            (mean.column_means[j] < mean.mean ? under : over).push_back(j);
+        REQUIRE(!under.empty());
+        REQUIRE(!over.empty());
+        std::mt19937 rng(5);
+        const double least = least_of_random_mixtures(k, h, rng, [&](std::vector<double>& p, double w) {
+            const std::size_t i = under[std::size_t(rng() % under.size())];
+            const std::size_t j = over[std::size_t(rng() % over.size())];
+            const double di = mean.mean - mean.column_means[i], dj = mean.column_means[j] - mean.mean;
+            p[i] += w * dj / (di + dj);
+            p[j] += w * di / (di + dj);
+        });
         INFO("bound " << fit.lower_bound << ", fit " << fit.value << ", best random " << least);
         CHECK(fit.lower_bound <= least);
         CHECK(fit.value <= least);

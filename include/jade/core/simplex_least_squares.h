@@ -11,8 +11,8 @@
 // Frank–Wolfe"). That bound is what a caller can quote as "no mixture gets
 // below"; the minimiser is found by accelerated projected gradient (FISTA,
 // Beck & Teboulle 2009, restarted whenever the objective rises, O'Donoghue &
-// Candès 2015). The projection onto the simplex sorts (Duchi et al. 2008);
-// with the mean it is the simplex projection of y − μ·m for the μ, found by
+// Candès 2015). The projection onto the simplex is Michelot's (1986), no
+// sort; with the mean it is the simplex projection of y − μ·m for the μ, found by
 // regula falsi, that gives the mean.
 
 #include <vector>
