@@ -446,7 +446,7 @@ void print_render_summary(const PipelineResult& r) {
     if (r.material)
         std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
                     "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f) over %d px blocks (noise %.1f, %.1f, %.1f levels; "
-                    "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f%s; its two renders %.1f s; "
+                    "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f%s; its two renders and the comparison %.1f s; "
                     "the photo's own stone under the render's shading: D (%.4f, %.4f, %.4f), structure distance "
                     "%.3f; the least D of any material under it (%.4f, %.4f, %.4f)\n",
                     r.material->block, r.material->s_material[0], r.material->s_material[1],
