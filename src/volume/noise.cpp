@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -166,6 +168,92 @@ double SimplexNoise::operator()(double x, double y, double z) const {
                     corner(g3, x3, y3, z3));
 }
 
+SimplexNoise::Lanes SimplexNoise::operator()(const Lanes& x, const Lanes& y, const Lanes& z) const {
+    if (__builtin_cpu_supports("avx2")) return lanes_avx2(x, y, z);
+    Lanes out;
+    for (int l = 0; l < 4; ++l) out[l] = (*this)(x[l], y[l], z[l]);
+    return out;
+}
+
+namespace {
+
+// fast_floor in four lanes: the truncation, less one where it rounded up.
+__attribute__((target("avx2"))) inline __m256d floor4(__m256d v) {
+    const __m256d t = _mm256_cvtepi32_pd(_mm256_cvttpd_epi32(v));
+    return _mm256_sub_pd(t, _mm256_and_pd(_mm256_cmp_pd(v, t, _CMP_LT_OQ), _mm256_set1_pd(1.0)));
+}
+
+// corner() in four lanes, gradients (gx, gy, gz) per lane: (R² − r²)⁴ (g · d),
+// R² − r² clamped at 0 as std::max(v, 0) does (max(0, v) keeps v's −0, as
+// it does).
+__attribute__((target("avx2"))) inline __m256d corner4(const double* gx, const double* gy, const double* gz,
+                                                       __m256d x, __m256d y, __m256d z) {
+    __m256d r = _mm256_sub_pd(_mm256_set1_pd(kRadius2), _mm256_mul_pd(x, x));
+    r = _mm256_sub_pd(_mm256_sub_pd(r, _mm256_mul_pd(y, y)), _mm256_mul_pd(z, z));
+    r = _mm256_max_pd(_mm256_setzero_pd(), r);
+    r = _mm256_mul_pd(r, r);
+    const __m256d dot =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_load_pd(gx), x), _mm256_mul_pd(_mm256_load_pd(gy), y)),
+                      _mm256_mul_pd(_mm256_load_pd(gz), z));
+    return _mm256_mul_pd(_mm256_mul_pd(r, r), dot);
+}
+
+}  // namespace
+
+// The operator above in four lanes, operation for operation: its integer
+// floors and their sums are exact in doubles, its comparisons become masks
+// and its corner indices are looked up lane by lane. Compiled for AVX2
+// alone, not FMA, so no product and sum are fused (operator() has none).
+__attribute__((target("avx2"))) SimplexNoise::Lanes SimplexNoise::lanes_avx2(const Lanes& px, const Lanes& py,
+                                                                             const Lanes& pz) const {
+    constexpr double F3 = 1.0 / 3.0, G3 = 1.0 / 6.0;
+    const __m256d x = _mm256_loadu_pd(px.data()), y = _mm256_loadu_pd(py.data()), z = _mm256_loadu_pd(pz.data());
+    const __m256d one = _mm256_set1_pd(1.0);
+    const __m256d s = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(x, y), z), _mm256_set1_pd(F3));
+    const __m256d i = floor4(_mm256_add_pd(x, s)), j = floor4(_mm256_add_pd(y, s)), k = floor4(_mm256_add_pd(z, s));
+    const __m256d t = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(i, j), k), _mm256_set1_pd(G3));
+    const __m256d x0 = _mm256_sub_pd(x, _mm256_sub_pd(i, t)), y0 = _mm256_sub_pd(y, _mm256_sub_pd(j, t)),
+                  z0 = _mm256_sub_pd(z, _mm256_sub_pd(k, t));
+    const __m256d xy = _mm256_cmp_pd(x0, y0, _CMP_GE_OQ), yz = _mm256_cmp_pd(y0, z0, _CMP_GE_OQ),
+                  xz = _mm256_cmp_pd(x0, z0, _CMP_GE_OQ);
+    // The offsets of the second and third corners, 0 or 1 (masks and 1.0).
+    const __m256d i1 = _mm256_and_pd(_mm256_and_pd(xy, xz), one), j1 = _mm256_and_pd(_mm256_andnot_pd(xy, yz), one),
+                  k1 = _mm256_andnot_pd(_mm256_or_pd(xz, yz), one);
+    const __m256d i2 = _mm256_and_pd(_mm256_or_pd(xy, xz), one),
+                  j2 = _mm256_or_pd(_mm256_andnot_pd(xy, one), _mm256_and_pd(yz, one)),
+                  k2 = _mm256_andnot_pd(_mm256_and_pd(xz, yz), one);
+    const __m256d g1c = _mm256_set1_pd(G3), g2c = _mm256_set1_pd(2 * G3), g3c = _mm256_set1_pd(3 * G3);
+    const __m256d x1 = _mm256_add_pd(_mm256_sub_pd(x0, i1), g1c), y1 = _mm256_add_pd(_mm256_sub_pd(y0, j1), g1c),
+                  z1 = _mm256_add_pd(_mm256_sub_pd(z0, k1), g1c);
+    const __m256d x2 = _mm256_add_pd(_mm256_sub_pd(x0, i2), g2c), y2 = _mm256_add_pd(_mm256_sub_pd(y0, j2), g2c),
+                  z2 = _mm256_add_pd(_mm256_sub_pd(z0, k2), g2c);
+    const __m256d x3 = _mm256_add_pd(_mm256_sub_pd(x0, one), g3c), y3 = _mm256_add_pd(_mm256_sub_pd(y0, one), g3c),
+                  z3 = _mm256_add_pd(_mm256_sub_pd(z0, one), g3c);
+    // The four corners' gradients, lane by lane.
+    alignas(32) double fi[4], fj[4], fk[4], ci1[4], cj1[4], ck1[4], ci2[4], cj2[4], ck2[4];
+    _mm256_store_pd(fi, i), _mm256_store_pd(fj, j), _mm256_store_pd(fk, k);
+    _mm256_store_pd(ci1, i1), _mm256_store_pd(cj1, j1), _mm256_store_pd(ck1, k1);
+    _mm256_store_pd(ci2, i2), _mm256_store_pd(cj2, j2), _mm256_store_pd(ck2, k2);
+    alignas(32) double gx[4][4], gy[4][4], gz[4][4];  // [corner][lane]
+    for (int l = 0; l < 4; ++l) {
+        const int ii = int(fi[l]) & 255, jj = int(fj[l]) & 255, kk = int(fk[l]) & 255;
+        const int a1 = int(ci1[l]), b1 = int(cj1[l]), c1 = int(ck1[l]);
+        const int a2 = int(ci2[l]), b2 = int(cj2[l]), c2 = int(ck2[l]);
+        const int g[4] = {gradient_[ii + perm_[jj + perm_[kk]]],
+                          gradient_[ii + a1 + perm_[jj + b1 + perm_[kk + c1]]],
+                          gradient_[ii + a2 + perm_[jj + b2 + perm_[kk + c2]]],
+                          gradient_[ii + 1 + perm_[jj + 1 + perm_[kk + 1]]]};
+        for (int c = 0; c < 4; ++c) gx[c][l] = kGrad[g[c]][0], gy[c][l] = kGrad[g[c]][1], gz[c][l] = kGrad[g[c]][2];
+    }
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(corner4(gx[0], gy[0], gz[0], x0, y0, z0),
+                                                                  corner4(gx[1], gy[1], gz[1], x1, y1, z1)),
+                                                    corner4(gx[2], gy[2], gz[2], x2, y2, z2)),
+                                      corner4(gx[3], gy[3], gz[3], x3, y3, z3));
+    Lanes out;
+    _mm256_storeu_pd(out.data(), _mm256_mul_pd(_mm256_set1_pd(kNoiseScale), sum));
+    return out;
+}
+
 Fbm::Fbm(const NoiseParams& params)
     : simplex_(params.seed), octaves_(params.octave_count()),
       k_(params.k) {
@@ -223,15 +311,20 @@ double Fbm::structure_bound() const {
 
 double Fbm::bound() const { return structure_bound() + (veins_ ? 1.0 : 0.0); }
 
-double Fbm::vein_field(double x, double y, double z) const {
-    double sum = 0.0, fr = vein_frequency_, amp = kVeinRatio;
+Fbm::Lanes Fbm::vein_field(const Lanes& x, const Lanes& y, const Lanes& z) const {
+    Lanes sum{}, at_x, at_y, at_z;
+    double fr = vein_frequency_, amp = kVeinRatio;
     for (int i = 0; i < vein_octaves_; ++i) {
         const double* o = &vein_offset_[3 * std::size_t(i)];
-        sum += amp * simplex_(x * fr + o[0], y * fr + o[1], z * fr + o[2]);
+        for (int l = 0; l < 4; ++l) at_x[l] = x[l] * fr + o[0], at_y[l] = y[l] * fr + o[1], at_z[l] = z[l] * fr + o[2];
+        const Lanes n = simplex_(at_x, at_y, at_z);
+        for (int l = 0; l < 4; ++l) sum[l] += amp * n[l];
         fr *= 2.0;
         amp *= kVeinRatio;
     }
-    return sum / amplitude_sum(kVeinRatio, vein_octaves_);
+    const double bound = amplitude_sum(kVeinRatio, vein_octaves_);
+    for (double& v : sum) v /= bound;
+    return sum;
 }
 
 double Fbm::amplitude_sum(double ratio, int octaves) const {
@@ -240,12 +333,15 @@ double Fbm::amplitude_sum(double ratio, int octaves) const {
     return sum;
 }
 
-double Fbm::layer_profile(double t) const {
-    double sum = 0.0, fr = 1.0, amp = profile_k_;
+Fbm::Lanes Fbm::layer_profile(const Lanes& t) const {
+    Lanes sum{}, at_x;
+    double fr = 1.0, amp = profile_k_;
     for (int i = 0; i < profile_octaves_; ++i) {
         const double* o = &profile_offset_[3 * std::size_t(i)];
         // Simplex noise along a line through the lattice: a 1-D noise.
-        sum += amp * simplex_(t * fr + o[0], o[1], o[2]);
+        for (int l = 0; l < 4; ++l) at_x[l] = t[l] * fr + o[0];
+        const Lanes n = simplex_(at_x, Lanes{o[1], o[1], o[1], o[1]}, Lanes{o[2], o[2], o[2], o[2]});
+        for (int l = 0; l < 4; ++l) sum[l] += amp * n[l];
         fr *= 2.0;
         amp *= profile_k_;
     }
@@ -253,37 +349,68 @@ double Fbm::layer_profile(double t) const {
 }
 
 double Fbm::operator()(double px, double py, double pz) const {
+    return (*this)(Lanes{px, px, px, px}, Lanes{py, py, py, py}, Lanes{pz, pz, pz, pz})[0];
+}
+
+// Four positions through the same operations, lane by lane, the noise
+// four at a time (SimplexNoise's lanes): each lane's value is what one
+// position alone would give.
+Fbm::Lanes Fbm::operator()(const Lanes& px, const Lanes& py, const Lanes& pz) const {
     // Into the frame of the structure: u along the bands (stretched), w across.
-    const double x = (along_x_ * px + along_y_ * py) * inv_stretch_;
-    const double y = -along_y_ * px + along_x_ * py;
-    const double z = pz * inv_stretch_;
-    // The noise's coordinate across the layers; with bands the warp reads it
-    // at ε·w (at ε = 1 the product is exact: the isotropic warp as before).
-    const double y_noise = fold_ * y;
-    double sum = 0.0, fr = base_frequency_, amp = k_;
+    Lanes x, y, z, y_noise;
+    for (int l = 0; l < 4; ++l) {
+        x[l] = (along_x_ * px[l] + along_y_ * py[l]) * inv_stretch_;
+        y[l] = -along_y_ * px[l] + along_x_ * py[l];
+        z[l] = pz[l] * inv_stretch_;
+        // The noise's coordinate across the layers; with bands the warp
+        // reads it at ε·w (at ε = 1 the product is exact: the isotropic warp
+        // as before).
+        y_noise[l] = fold_ * y[l];
+    }
+    Lanes sum{}, at_x, at_y, at_z;
+    double fr = base_frequency_, amp = k_;
     for (int i = 0; i < octaves_; ++i) {
         const double* o = &offset_[3 * std::size_t(i)];
-        sum += amp * simplex_(x * fr + o[0], y_noise * fr + o[1], z * fr + o[2]);
+        for (int l = 0; l < 4; ++l)
+            at_x[l] = x[l] * fr + o[0], at_y[l] = y_noise[l] * fr + o[1], at_z[l] = z[l] * fr + o[2];
+        const Lanes n = simplex_(at_x, at_y, at_z);
+        for (int l = 0; l < 4; ++l) sum[l] += amp * n[l];
         fr *= 2.0;
         amp *= k_;
     }
-    double value = sum;
-    if (layers_)
-        value = layer_profile(bands_per_voxel_ * (y + warp_ * sum));
-    else if (bands_per_voxel_ > 0.0)
-        value = std::sin(2.0 * kPiD * bands_per_voxel_ * (y + warp_ * sum));
+    Lanes value = sum;
+    if (layers_) {
+        Lanes t;
+        for (int l = 0; l < 4; ++l) t[l] = bands_per_voxel_ * (y[l] + warp_ * sum[l]);
+        value = layer_profile(t);
+    } else if (bands_per_voxel_ > 0.0) {
+        for (int l = 0; l < 4; ++l) value[l] = std::sin(2.0 * kPiD * bands_per_voxel_ * (y[l] + warp_ * sum[l]));
+    }
     if (!veins_) return value;
     // Inside a vein, below every value of the structure and darkest along
     // the veins' zero set; outside, the structure itself.
-    const double d = std::abs(vein_field(px, py, pz));
-    return d < vein_width_ ? d / vein_width_ - 1.0 - structure_bound() : value;
+    const Lanes field = vein_field(px, py, pz);
+    for (int l = 0; l < 4; ++l) {
+        const double d = std::abs(field[l]);
+        if (d < vein_width_) value[l] = d / vein_width_ - 1.0 - structure_bound();
+    }
+    return value;
 }
 
 void fbm_slice(const Fbm& fbm, int resolution, int k, float* out) {
     const double z = k + 0.5;
-    for (int j = 0; j < resolution; ++j)
-        for (int i = 0; i < resolution; ++i)
-            out[std::size_t(j) * resolution + i] = float(fbm(i + 0.5, j + 0.5, z));
+    const Fbm::Lanes zs{z, z, z, z};
+    for (int j = 0; j < resolution; ++j) {
+        const double y = j + 0.5;
+        // Four voxels of the row at a time; past the row's end a lane
+        // repeats its last voxel.
+        for (int i = 0; i < resolution; i += 4) {
+            Fbm::Lanes xs;
+            for (int l = 0; l < 4; ++l) xs[l] = std::min(i + l, resolution - 1) + 0.5;
+            const Fbm::Lanes v = fbm(xs, Fbm::Lanes{y, y, y, y}, zs);
+            for (int l = 0; l < 4 && i + l < resolution; ++l) out[std::size_t(j) * resolution + i + l] = float(v[l]);
+        }
+    }
 }
 
 std::vector<float> fbm_volume(const NoiseParams& params) {
