@@ -4,6 +4,8 @@
 
 #include "jade/core/error.h"
 #include "jade/core/spectrum.h"
+#include "jade/render/light_estimator.h"
+#include "jade/render/light_guide.h"
 #include "jade/render/media/grid.h"
 
 #include <algorithm>
@@ -130,12 +132,13 @@ void FitSession::set_density_scale(double density_scale) {
     shared_majorant_ = MaterialVolumeMedium(volume_, volume_.cube, at_max).majorant();
 }
 
-// Calls how(scene, settings) with the scene holding the volume at ks,
-// contrast and the current density scale (under the shared majorant), and
-// the fitting renders' settings at spp samples per pixel.
+// Calls how(scene, camera, settings) with the scene holding the volume at
+// ks, contrast and the current density scale (under the shared majorant),
+// and the fitting renders' settings at spp samples per pixel, with the
+// light guide a render through `camera` traces (light_guide, below).
 template <class How>
-auto FitSession::with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
-                             How how) const {
+auto FitSession::with_medium(const PinholeCamera& camera, const std::array<double, 3>& ks,
+                             const std::array<double, 3>& contrast, int spp, How how) const {
     OpticalParams optics = optics_;
     optics.ks = ks;
     optics.contrast = contrast;
@@ -145,23 +148,47 @@ auto FitSession::with_medium(const std::array<double, 3>& ks, const std::array<d
     scene.medium = &medium;
     RenderSettings settings = settings_;
     settings.spp = spp;
-    return how(scene, settings);
+    settings.integrator.built_light_guide = light_guide(scene, camera, spp);
+    return how(scene, camera, settings);
+}
+
+// The guide a render of `scene` through `camera` at `spp` traces
+// (render/renderer.h: its rays from the camera's samples), traced once per
+// ray count and majorant: the renders of a session differ in k_s and
+// contrast, which the guide does not see (it attenuates by the majorant).
+std::shared_ptr<const LightGuide> FitSession::light_guide(const Scene& scene, const PinholeCamera& camera,
+                                                          int spp) const {
+    IntegratorSettings integrator = settings_.integrator;
+    integrator.light_guide_photons = light_guide_photons(double(camera.width()) * camera.height() * spp);
+    const Spectrum majorant = scene.medium->majorant();
+    const std::lock_guard<std::mutex> lock(guides_mutex_);
+    for (const TracedGuide& g : guides_)
+        if (g.photons == integrator.light_guide_photons && g.majorant == majorant) return g.guide;
+    std::shared_ptr<const LightGuide> guide = light_guide_for(scene, integrator, settings_.seed);
+    // A few at most: a session meets two ray counts (the fitting and the
+    // final size) and a majorant per density scale.
+    constexpr std::size_t kMostGuides = 8;
+    if (guides_.size() == kMostGuides) guides_.erase(guides_.begin());
+    guides_.push_back({integrator.light_guide_photons, majorant, guide});
+    return guide;
 }
 
 RenderResult FitSession::render_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast,
                                    int spp) const {
-    return with_medium(ks, contrast, spp, [&](const Scene& scene, const RenderSettings& settings) {
-        return render(scene, camera_, settings);
-    });
+    return with_medium(camera_, ks, contrast, spp,
+                       [&](const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings) {
+                           return render(scene, camera, settings);
+                       });
 }
 
 // A render at ks and contrast through `camera` with `spp` samples per pixel,
 // in independent halves and quarters, for S_material's noise estimate.
 SplitFilms FitSession::split_render(const PinholeCamera& camera, const std::array<double, 3>& ks,
                                     const std::array<double, 3>& contrast, int spp) {
-    SplitFilms films = with_medium(ks, contrast, spp, [&](const Scene& scene, const RenderSettings& settings) {
-        return render_quarters(scene, camera, settings);
-    });
+    SplitFilms films = with_medium(camera, ks, contrast, spp,
+                                   [&](const Scene& scene, const PinholeCamera& at, const RenderSettings& settings) {
+                                       return render_quarters(scene, at, settings);
+                                   });
     if (progress_) progress_->advance();
     return films;
 }
@@ -469,9 +496,9 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp, const Film* fu
     FinalBrightness f;
     f.ks = outcome_.ks;
     const auto look = [&](const PinholeCamera& camera, const std::array<double, 3>& ks, int samples) {
-        const Film film = with_medium(ks, outcome_.contrast, samples,
-                                      [&](const Scene& scene, const RenderSettings& settings) {
-                                          return render(scene, camera, settings).film;
+        const Film film = with_medium(camera, ks, outcome_.contrast, samples,
+                                      [&](const Scene& scene, const PinholeCamera& at, const RenderSettings& settings) {
+                                          return render(scene, at, settings).film;
                                       });
         return display_statistics(film, outcome_.exposure);
     };
@@ -510,9 +537,9 @@ FitSession::FinalBrightness FitSession::final_brightness(int spp, const Film* fu
         std::array<double, 3> a{};
         if (f.from_fit) {
             a = extrapolated_brightness(
-                with_medium(k, outcome_.contrast, spread_spp(),
-                            [&](const Scene& scene, const RenderSettings& settings) {
-                                return render_quarters(scene, final_camera_, settings);
+                with_medium(final_camera_, k, outcome_.contrast, spread_spp(),
+                            [&](const Scene& scene, const PinholeCamera& at, const RenderSettings& settings) {
+                                return render_quarters(scene, at, settings);
                             }),
                 outcome_.exposure);
         } else {

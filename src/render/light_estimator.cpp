@@ -116,20 +116,24 @@ bool reflected_chain(const Scene& scene, const IntegratorSettings& settings, con
     return false;
 }
 
+}  // namespace
+
 // The directional light's guide (render/light_guide.h), when its
 // estimators use one: a disc behind a dielectric, estimated (not `off`).
-std::shared_ptr<const LightGuide> light_guide(const Scene& scene, const IntegratorSettings& settings,
-                                              std::uint64_t seed) {
+std::shared_ptr<const LightGuide> light_guide_for(const Scene& scene, const IntegratorSettings& settings,
+                                                  std::uint64_t seed) {
     if (!settings.light_guide || scene.light.is_delta() || scene.interface.mode == BoundaryMode::None ||
         settings.light_through_boundary == LightThroughBoundary::Off)
         return nullptr;
-    LightGuideSettings guide_settings;
-    guide_settings.photons = settings.light_guide_photons;
-    auto guide = std::make_shared<const LightGuide>(scene, seed, guide_settings);
+    std::shared_ptr<const LightGuide> guide = settings.built_light_guide;
+    if (!guide) {
+        LightGuideSettings guide_settings;
+        guide_settings.photons = settings.light_guide_photons;
+        guide = std::make_shared<const LightGuide>(scene, seed, guide_settings);
+    }
     if (guide->empty()) return nullptr;
     return guide;
 }
-}  // namespace
 
 // Written with the densities' ratio, so that no square overflows.
 float mis_weight(MisHeuristic heuristic, float pdf_this, float pdf_other) {
@@ -142,7 +146,7 @@ LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettin
     LightEstimators e;
     if (!scene.medium) return e;  // lights are estimated from medium vertices only
     if (scene.light.on()) {
-        const std::shared_ptr<const LightGuide> guide = light_guide(scene, settings, seed);
+        const std::shared_ptr<const LightGuide> guide = light_guide_for(scene, settings, seed);
         std::unique_ptr<LightEstimator> one = directional_estimator(scene, settings, guide != nullptr), two, outside;
         // With a guide, auto leaves the second chain to it: on the demo the
         // guide alone beat it mixed with the walk at 5° (README, "How the

@@ -8,8 +8,10 @@
 // not change it. The truths are Snell's and the mirror's laws, written here.
 
 #include "jade/geometry/mesh_accel.h"
+#include "jade/render/light_estimator.h"
 #include "jade/render/light_guide.h"
 #include "jade/render/media/homogeneous.h"
+#include "jade/render/renderer.h"
 #include "jade/render/scene.h"
 
 #include "support/render_test_util.h"
@@ -207,4 +209,34 @@ TEST_CASE("the guide's rays follow the render's camera samples: one per 64 betwe
     CHECK(light_guide_photons(32.0 * 32.0 * 256.0) == 1u << 16);
     CHECK(light_guide_photons(24.0 * 20.0 * 37.0) == 4440u);
     CHECK(light_guide_photons(0.0) == 1u << 12);
+}
+
+TEST_CASE("a guide traced before and given to a render makes the image of the render that traces its own",
+          "[light-guide]") {
+    // The fit's renders share one guide (fit/fit_session.h): the render
+    // given it must be the render that traces it, sample for sample. A box
+    // behind the split boundary under a 10-degree disc.
+    const MeshAccel accel(jade_test::box_mesh({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}));
+    const HomogeneousMedium medium(Spectrum(3.f, 2.f, 1.f), Spectrum(0.2f, 0.3f, 0.4f));
+    const Scene scene = guide_scene(accel, medium, {0.3f, 0.8f, 0.5f}, 10.f);
+    CameraParams params;
+    params.origin = {0.5f, 1.f, 5.f};
+    params.width = params.height = 24;
+    const PinholeCamera camera(params);
+    RenderSettings settings;
+    settings.spp = 16;
+    const RenderResult own = render(scene, camera, settings);
+    IntegratorSettings traced = settings.integrator;
+    traced.light_guide_photons = light_guide_photons(24.0 * 24.0 * 16.0);
+    const std::shared_ptr<const LightGuide> guide = light_guide_for(scene, traced, settings.seed);
+    REQUIRE(guide);
+    RenderSettings given = settings;
+    given.integrator.built_light_guide = guide;
+    const RenderResult shared = render(scene, camera, given);
+    CHECK(own.film.rgba(true) == shared.film.rgba(true));
+    // And the guide is used as given: one traced from other rays makes
+    // another image.
+    traced.light_guide_photons /= 2;
+    given.integrator.built_light_guide = light_guide_for(scene, traced, settings.seed);
+    CHECK(render(scene, camera, given).film.rgba(true) != own.film.rgba(true));
 }

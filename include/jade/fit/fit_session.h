@@ -26,6 +26,8 @@
 #include "jade/volume/sharpen.h"
 
 #include <array>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -259,8 +261,9 @@ private:
     FitRecord* rendered_at(const std::array<double, 3>& ks, const std::array<double, 3>& contrast);
     int step_cost() const { return spread_at_final_size_ && box_factor_ == 0 ? 3 : 2; }
     template <class How>
-    auto with_medium(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, int spp,
-                     How how) const;
+    auto with_medium(const PinholeCamera& camera, const std::array<double, 3>& ks,
+                     const std::array<double, 3>& contrast, int spp, How how) const;
+    std::shared_ptr<const LightGuide> light_guide(const Scene& scene, const PinholeCamera& camera, int spp) const;
     FitRecord& record(const std::array<double, 3>& ks, const std::array<double, 3>& contrast, const Film& film);
     void bracket(FitDriver& driver);
     void fit_from_bounds();
@@ -317,6 +320,17 @@ private:
     // (that of k_s = k_max at every contrast, at this density scale).
     double density_scale_;
     Spectrum shared_majorant_;
+    // The light guides the renders traced (render/light_estimator.h,
+    // light_guide_for), by what makes one differ within a session: its ray
+    // count (the camera's samples) and the medium's majorant (the guide's
+    // attenuation). Renders that share both share the guide, as traced.
+    struct TracedGuide {
+        std::uint32_t photons;
+        Spectrum majorant;
+        std::shared_ptr<const LightGuide> guide;
+    };
+    mutable std::vector<TracedGuide> guides_;
+    mutable std::mutex guides_mutex_;
     Stopwatch clock_;
     Progress* progress_ = nullptr;
     FitOutcome outcome_;

@@ -126,6 +126,11 @@ struct IntegratorSettings {
     // The rays the guide traces from the light; a render sets it from its
     // camera samples (light_guide_photons in render/light_guide.h).
     std::uint32_t light_guide_photons = 1u << 18;
+    // The guide, already traced for this scene, seed and ray count
+    // (light_guide_for): a fit's renders of one size share all three, and
+    // a fitting render of 24² spent a sixth of its time tracing the same
+    // rays again. Null: the render traces its own.
+    std::shared_ptr<const LightGuide> built_light_guide;
     void validate() const;
 };
 

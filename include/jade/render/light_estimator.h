@@ -42,6 +42,8 @@
 
 namespace jade {
 
+class LightGuide;
+
 // How a phase-sampled path that meets the light by itself counts it, when
 // the estimator could have made that path too (its pdf() is not 0).
 enum class LightHits {
@@ -125,5 +127,12 @@ struct LightEstimators {
 // `seed` keys the light guide's tracing (render/light_guide.h).
 LightEstimators make_light_estimators(const Scene& scene, const IntegratorSettings& settings,
                                       std::uint64_t seed);
+
+// The light guide a render of `scene` with these settings and seed uses
+// (its settings.light_guide_photons rays, traced from `seed`; or
+// settings.built_light_guide as it is), or null where its estimators use
+// none: a disc light behind a dielectric boundary, estimated.
+std::shared_ptr<const LightGuide> light_guide_for(const Scene& scene, const IntegratorSettings& settings,
+                                                  std::uint64_t seed);
 
 }  // namespace jade
