@@ -6,7 +6,9 @@
 
 #include <tbb/parallel_for.h>
 
+#if defined(__x86_64__)
 #include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -169,12 +171,15 @@ double SimplexNoise::operator()(double x, double y, double z) const {
 }
 
 SimplexNoise::Lanes SimplexNoise::operator()(const Lanes& x, const Lanes& y, const Lanes& z) const {
+#if defined(__x86_64__)
     if (__builtin_cpu_supports("avx2")) return lanes_avx2(x, y, z);
+#endif
     Lanes out;
     for (int l = 0; l < 4; ++l) out[l] = (*this)(x[l], y[l], z[l]);
     return out;
 }
 
+#if defined(__x86_64__)
 namespace {
 
 // fast_floor in four lanes: the truncation, less one where it rounded up.
@@ -253,6 +258,11 @@ __attribute__((target("avx2"))) SimplexNoise::Lanes SimplexNoise::lanes_avx2(con
     _mm256_storeu_pd(out.data(), _mm256_mul_pd(_mm256_set1_pd(kNoiseScale), sum));
     return out;
 }
+#else
+SimplexNoise::Lanes SimplexNoise::lanes_avx2(const Lanes&, const Lanes&, const Lanes&) const {
+    throw Error("internal: AVX2 lanes on a processor without them");
+}
+#endif
 
 Fbm::Fbm(const NoiseParams& params)
     : simplex_(params.seed), octaves_(params.octave_count()),
