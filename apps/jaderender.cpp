@@ -44,6 +44,7 @@ struct Vec3Flag {
 
 struct VolumeOptions {
     std::string photo, mask, out, preview, color_name = "color";
+    double photo_span = 1.0;  // Photo::span
     bool z_up = false;
     jade::NoiseParams noise = jade::default_photo_noise();
     std::string sharpen = "auto";  // --sharpen: sharpen_amount
@@ -91,6 +92,11 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     if (photo_required) photo->required();
     cmd.add_option("--mask", o.mask, "Mask image, same size as the photo; white (>= 0.5) = "
                                      "object. Replaces the photo's alpha");
+    cmd.add_option("--photo-span", o.photo_span,
+                   "How many of the object's sizes (its bounding cube's side) the photo's width spans: 1 as "
+                   "wide as the object, 4 a slab four times as wide, the object showing a quarter of it, its "
+                   "structure four times coarser (1/8 to 8)")
+        ->capture_default_str();
     cmd.add_option("--resolution", o.noise.resolution, "Voxels along each side of the cube (s)")
         ->capture_default_str();
     cmd.add_option("--octaves", o.noise.octaves, "fBm octaves n (0 = floor(log2(s)), the paper's)")
@@ -185,7 +191,7 @@ int run_volume(VolumeOptions& o) {
     jade::require_memory_for_volume(o.noise.resolution);
 
     const jade::Stopwatch t_photo;
-    const jade::Photo photo = jade::load_photo(o.photo, o.mask);
+    const jade::Photo photo = jade::load_photo(o.photo, o.mask, o.photo_span);
     const double photo_s = t_photo.seconds();
 
     const jade::Stopwatch t_volume;
@@ -725,6 +731,7 @@ int run_pipeline(PipelineFlags& p) {
     jade::PipelineOptions& o = p.options;
     o.photo = p.volume.photo;
     o.mask = p.volume.mask;
+    o.photo_span = p.volume.photo_span;
     o.noise = p.volume.noise;
     // 'auto': the first fit's volume unsharpened, the fit choosing after it.
     o.sharpen_from_fit = p.volume.sharpen == "auto";
@@ -790,6 +797,9 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
                     "material), structure, renders and seconds, and D(default)/D(paper)");
     fidelity->add_option("--photo", fbench.photo, "Photograph of the material")->required();
     fidelity->add_option("--mask", fbench.mask, "Mask image (white = object)");
+    fidelity->add_option("--photo-span", fbench.photo_span,
+                         "How many of the object's sizes the photo's width spans (both methods)")
+        ->capture_default_str();
     fidelity->add_option("--mesh", fbench.mesh, "The object's surface")->required();
     fidelity->add_option("--out", fbench.out_dir, "Folder for both results (default/ and paper/)")
         ->capture_default_str();

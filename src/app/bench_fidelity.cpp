@@ -23,6 +23,7 @@ PipelineOptions common_options(const FidelityBenchOptions& b, const std::string&
     PipelineOptions o;
     o.photo = b.photo;
     o.mask = b.mask;
+    o.photo_span = b.photo_span;
     o.out_dir = (fs::path(b.out_dir) / (b.seeds > 1 ? name + "-seed" + std::to_string(seed) : name)).string();
     o.noise.resolution = b.resolution;
     o.noise.seed = std::uint32_t(seed);
@@ -221,11 +222,13 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     if (b.photo.empty() || b.mesh.empty()) throw Error("bench fidelity needs --photo and --mesh");
     if (b.seeds < 1) throw Error("bench fidelity: --seeds must be at least 1");
     if (b.spp < 1) throw Error("bench fidelity: --spp must be at least 1");
+    validate_photo_span(b.photo_span);
     std::error_code ec;
     fs::create_directories(b.out_dir, ec);
     if (ec) fail_file(b.out_dir, "cannot create the output folder: " + ec.message());
-    std::printf("fidelity: %s on %s, volume %d^3, final renders %dx%d at %d spp, %d seed%s; results in %s/\n",
-                b.photo.c_str(), b.mesh.c_str(), b.resolution, b.width, b.height, b.spp, b.seeds,
+    std::printf("fidelity: %s (spanning %g cube sides) on %s, volume %d^3, final renders %dx%d at %d spp, %d seed%s; "
+                "results in %s/\n",
+                b.photo.c_str(), b.photo_span, b.mesh.c_str(), b.resolution, b.width, b.height, b.spp, b.seeds,
                 b.seeds > 1 ? "s" : "", b.out_dir.c_str());
     std::fflush(stdout);
     std::vector<SeedDistances> distances;

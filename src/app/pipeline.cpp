@@ -41,6 +41,13 @@ MaterialVolume make_volume(const PipelineOptions& o, const Photo& photo, const C
     if (!o.volume.empty()) {
         MaterialVolume volume = read_material_vdb(o.volume);
         volume.cube = cube;
+        if (volume.photo_span != photo.span) {
+            char text[200];
+            std::snprintf(text, sizeof text,
+                          "%s was matched to a photo spanning %g cube sides; the photo is measured at --photo-span %g",
+                          o.volume.c_str(), volume.photo_span, photo.span);
+            res.warnings.push_back(text);
+        }
         return volume;
     }
     const Stopwatch clock;
@@ -388,7 +395,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     if (o.volume.empty()) require_memory_for_volume(o.noise.resolution);
 
     Stopwatch clock;
-    const Photo photo = load_photo(o.photo, o.mask);
+    const Photo photo = load_photo(o.photo, o.mask, o.photo_span);
     const std::unique_ptr<PreparedScene> prep = prepare_scene(o.render);
     res.warnings = prep->warnings;
     res.seconds_photo = clock.seconds();

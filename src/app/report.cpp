@@ -298,7 +298,7 @@ std::string pipeline_report(const PipelineReport& in) {
     const PipelineResult& res = in.result;
     json j;
     j["versions"] = versions_json();
-    j["inputs"] = {{"photo", o.photo}, {"mask", o.mask}, {"mesh", o.render.mesh},
+    j["inputs"] = {{"photo", o.photo}, {"mask", o.mask}, {"photo_span", in.photo.span}, {"mesh", o.render.mesh},
                    {"foreground_pixels", in.photo.foreground_count()}};
     // The manifest: report.json is written last, so the set it names (each
     // file with its size) is complete when it exists (docs/robustness.md).

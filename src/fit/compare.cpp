@@ -83,6 +83,17 @@ void draw_histogram(RgbImage8& img, int x0, int y0, int h, int c, const RgbHisto
     draw_text(img, x0 + 2, y0 + 2 * kTextSize + 6, lines[1], kTextSize, solid);
 }
 
+// The part of the photo its panel shows: where the photo spans more than one
+// cube side (Photo::span > 1), the central square one side wide, at the
+// scale of the slice beside it; else the whole photo. {x0, y0, w, h}.
+std::array<int, 4> photo_window(const Photo& photo) {
+    if (!(photo.span > 1.0)) return {0, 0, photo.width, photo.height};
+    const std::array<int, 4> box = photo.foreground_box();
+    const int side = std::max(1, int(std::lround(std::max(box[2], box[3]) / photo.span)));
+    const int w = std::min(side, box[2]), h = std::min(side, box[3]);
+    return {box[0] + (box[2] - w) / 2, box[1] + (box[3] - h) / 2, w, h};
+}
+
 }  // namespace
 
 RgbImage8 compare_image(const ComparePanels& p, int panel) {
@@ -90,7 +101,8 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
     const Film& render = p.render;
     const RgbImage8& slice = p.slice;
     auto width_at = [&](int w, int h) { return std::max(1, int(std::lround(double(panel) * w / std::max(1, h)))); };
-    const int pw = width_at(photo.width, photo.height), rw = width_at(render.width(), render.height()),
+    const std::array<int, 4> window = photo_window(photo);
+    const int pw = width_at(window[2], window[3]), rw = width_at(render.width(), render.height()),
               sw = width_at(slice.width, slice.height);
     const int plot_height = 170;
     RgbImage8 img;
@@ -100,14 +112,16 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
     img.pixels.assign(std::size_t(img.width) * img.height * 3, kBackground[0]);
 
     int x = 0;
-    draw_picture(img, x, panel, photo.width, photo.height, [&](int sx, int sy) {
-        const std::size_t i = std::size_t(sy) * photo.width + sx;
+    draw_picture(img, x, panel, window[2], window[3], [&](int sx, int sy) {
+        const std::size_t i = std::size_t(sy + window[1]) * photo.width + std::size_t(sx + window[0]);
         Rgb8 c = photo.levels[i];
         if (!photo.foreground[i])  // background dimmed to a quarter
             for (auto& v : c) v = std::uint8_t(v / 4);
         return c;
     });
-    draw_text(img, x + 4, panel + kCaption - 6, "photo", kTextSize, kText);
+    char photo_caption[48] = "photo";
+    if (photo.span > 1.0) std::snprintf(photo_caption, sizeof photo_caption, "photo, 1/%g of its width", photo.span);
+    draw_text(img, x + 4, panel + kCaption - 6, photo_caption, kTextSize, kText);
     x += pw + kGap;
     draw_picture(img, x, panel, render.width(), render.height(), [&](int sx, int sy) {
         const Spectrum m = render.mean(sx, sy) * p.exposure;

@@ -248,6 +248,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     // The photo's file name only: a path of the machine that made the file
     // means nothing elsewhere (report.json keeps the path as given).
     meta.insertMeta("jade:photo", openvdb::StringMetadata(std::filesystem::path(v.photo).filename().string()));
+    meta.insertMeta("jade:photo_span", openvdb::DoubleMetadata(v.photo_span));
     meta.insertMeta("jade:resolution", openvdb::Int32Metadata(v.resolution));
     meta.insertMeta("jade:octaves", openvdb::Int32Metadata(v.noise.octave_count()));
     meta.insertMeta("jade:k", openvdb::DoubleMetadata(v.noise.k));
@@ -406,6 +407,12 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     MaterialVolume v;
     v.resolution = int(required_int(meta, path, "jade:resolution"));
     v.photo = required_meta<std::string>(meta, path, "jade:photo");
+    // Files from before the span were matched to a photo a cube side wide.
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:photo_span")) {
+        v.photo_span = m->value();
+        if (!(v.photo_span >= kMinPhotoSpan && v.photo_span <= kMaxPhotoSpan))
+            fail_file(path, "metadata 'jade:photo_span' must be between 0.125 and 8");
+    }
     v.noise.resolution = v.resolution;
     v.noise.octaves = int(required_int(meta, path, "jade:octaves"));
     v.noise.k = required_meta<double>(meta, path, "jade:k");

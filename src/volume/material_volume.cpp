@@ -138,6 +138,7 @@ MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& nois
     vol.match = match;
     vol.optics = optics;
     vol.photo = photo.path;
+    vol.photo_span = photo.span;
 
     const int s = noise.resolution;
     const std::size_t m = std::size_t(s) * s;

@@ -24,6 +24,17 @@ int NoiseParams::octave_count() const {
     return n < 1 ? 1 : n;
 }
 
+NoiseParams magnified(const NoiseParams& p, double m) {
+    if (m == 1.0) return p;
+    NoiseParams q = p;
+    q.frequency = p.frequency / m;
+    q.vein_frequency = p.vein_frequency / m;
+    q.bands = p.bands / m;
+    q.warp = p.warp * m;
+    q.octaves = std::clamp(p.octave_count() + int(std::lround(std::log2(m))), 1, 30);
+    return q;
+}
+
 std::string NoiseParams::family_suffix() const {
     std::string s = layers ? ", layers" : "";
     if (bands > 0.0 && fold != 1.0) {
@@ -44,6 +55,11 @@ std::string NoiseParams::family_suffix() const {
     return s;
 }
 
+// A sixteenth of a cycle per side: the estimate's least frequencies (half a
+// cycle per photo, one per photo for the veins) magnified by the widest
+// photo span, 8 (Photo::span).
+constexpr double kMinFrequency = 0.0625;
+
 void NoiseParams::validate() const {
     if (resolution < 2 || resolution > 1024)
         throw Error("--resolution must be between 2 and 1024 voxels, got " +
@@ -53,8 +69,8 @@ void NoiseParams::validate() const {
                     std::to_string(octaves));
     if (!(k > 0.0 && k < 1.0))
         throw Error("--k must lie strictly between 0 and 1, got " + std::to_string(k));
-    if (!(frequency >= 0.125 && frequency <= 64.0))
-        throw Error("--frequency must be between 0.125 and 64 cycles per side, got " +
+    if (!(frequency >= kMinFrequency && frequency <= 64.0))
+        throw Error("--frequency must be between 0.0625 and 64 cycles per side, got " +
                     std::to_string(frequency));
     if (!(stretch >= 1.0 && stretch <= 64.0))
         throw Error("--stretch must be between 1 and 64, got " + std::to_string(stretch));
@@ -66,8 +82,8 @@ void NoiseParams::validate() const {
     if (!(fold >= 0.0 && fold <= 1.0))
         throw Error("--fold must be between 0 (every layer folds alike) and 1 (isotropic warp), got " +
                     std::to_string(fold));
-    if (!(vein_frequency >= 0.125 && vein_frequency <= 64.0))
-        throw Error("--vein-frequency must be between 0.125 and 64 cycles per side, got " +
+    if (!(vein_frequency >= kMinFrequency && vein_frequency <= 64.0))
+        throw Error("--vein-frequency must be between 0.0625 and 64 cycles per side, got " +
                     std::to_string(vein_frequency));
     if (!(vein_width > 0.0 && vein_width <= 0.5))
         throw Error("--vein-width must lie above 0 and at most 0.5, got " + std::to_string(vein_width));

@@ -15,6 +15,18 @@ namespace jade {
 
 namespace OIIO = OIIO_NAMESPACE;
 
+std::array<int, 4> Photo::foreground_box() const {
+    int x0 = width, x1 = -1, y0 = height, y1 = -1;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            if (foreground[std::size_t(y) * width + x]) {
+                x0 = std::min(x0, x), x1 = std::max(x1, x);
+                y0 = std::min(y0, y), y1 = std::max(y1, y);
+            }
+    if (x1 < 0) return {0, 0, width, height};
+    return {x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+}
+
 std::size_t Photo::foreground_count() const {
     return std::size_t(std::count(foreground.begin(), foreground.end(), std::uint8_t(1)));
 }
@@ -84,10 +96,21 @@ std::uint8_t to_level(float v, bool linear) {
 
 }  // namespace
 
-Photo load_photo(const std::string& path, const std::string& mask_path) {
+void validate_photo_span(double span) {
+    if (!(span >= kMinPhotoSpan && span <= kMaxPhotoSpan)) {
+        char text[160];
+        std::snprintf(text, sizeof text, "--photo-span must be between %g and %g cube sides, got %g", kMinPhotoSpan,
+                      kMaxPhotoSpan, span);
+        throw Error(text);
+    }
+}
+
+Photo load_photo(const std::string& path, const std::string& mask_path, double span) {
+    validate_photo_span(span);
     const RawImage img = read_raw(path);
     Photo photo;
     photo.path = path;
+    photo.span = span;
     photo.width = img.width;
     photo.height = img.height;
     const std::size_t n = std::size_t(img.width) * img.height;

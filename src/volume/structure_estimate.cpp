@@ -33,16 +33,12 @@ GrayImage photo_luma(const Photo& photo) {
     return g;
 }
 
-double photo_pixels_per_side(const Photo& photo) {
-    int x0 = photo.width, x1 = -1, y0 = photo.height, y1 = -1;
-    for (int y = 0; y < photo.height; ++y)
-        for (int x = 0; x < photo.width; ++x)
-            if (photo.foreground[std::size_t(y) * photo.width + x]) {
-                x0 = std::min(x0, x), x1 = std::max(x1, x);
-                y0 = std::min(y0, y), y1 = std::max(y1, y);
-            }
-    return x1 < 0 ? double(photo.width) : double(std::max(x1 - x0 + 1, y1 - y0 + 1));
+double photo_extent_pixels(const Photo& photo) {
+    const std::array<int, 4> box = photo.foreground_box();
+    return double(std::max(box[2], box[3]));
 }
+
+double photo_pixels_per_side(const Photo& photo) { return photo_extent_pixels(photo) / photo.span; }
 
 GrayImage matched_noise_slice(const NoiseParams& noise, int z, const std::vector<float>& sorted_luma) {
     const int s = noise.resolution;
@@ -85,9 +81,11 @@ struct PhotoTexture {
     std::vector<float> sorted_luma;
 };
 
+// In the photo's own frame (it spans one side): the search's grids and the
+// candidates' slices are the photo's scale whatever its span.
 PhotoTexture photo_texture(const Photo& photo) {
     const GrayImage g = photo_luma(photo);
-    PhotoTexture t{texture_spectrum(g, photo_pixels_per_side(photo)), {}};
+    PhotoTexture t{texture_spectrum(g, photo_extent_pixels(photo)), {}};
     for (std::size_t i = 0; i < g.values.size(); ++i)
         if (g.inside(int(i % g.width), int(i / g.width))) t.sorted_luma.push_back(g.values[i]);
     std::sort(t.sorted_luma.begin(), t.sorted_luma.end());
@@ -259,7 +257,9 @@ StructureFit fold_layers(const StructureFit& fit, Evaluations& evaluations) {
 }  // namespace
 
 StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo) {
-    return evaluate(noise, photo_texture(photo));
+    StructureFit f = evaluate(magnified(noise, 1.0 / photo.span), photo_texture(photo));
+    f.noise = noise;
+    return f;
 }
 
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base) {
@@ -268,10 +268,14 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     Evaluations evaluations(texture);
     StructureEstimate out;
     out.photo = texture.spectrum;
+    // The search runs in the photo's frame and its outcome is magnified by
+    // the photo's span into the cube's (docs/design.md, "The photo's span");
+    // the paper's fBm, one cycle per cube side, is span cycles per photo.
     NoiseParams paper = base;
     paper.frequency = 1.0, paper.stretch = 1.0, paper.angle = 0.0, paper.bands = 0.0, paper.veins = false;
     paper.layers = false;
-    out.paper = evaluations.of(paper);
+    out.paper = evaluations.of(magnified(paper, 1.0 / photo.span));
+    out.paper.noise = paper;
     // A photo with no measured power in any band (one colour) has no
     // structure to match: every candidate's distance to it is undefined,
     // and the search would evaluate hundreds of candidates (287 at 64³; 17 s
@@ -289,13 +293,14 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     // Asked for veins (base.veins), every start has them and the descent
     // searches their frequency and width too: the measures below do not
     // choose veins by themselves (docs/design.md, "Structure").
-    NoiseParams fbm = paper;
+    NoiseParams fbm = base;
+    fbm.frequency = 1.0, fbm.stretch = 1.0, fbm.angle = 0.0, fbm.bands = 0.0, fbm.layers = false;
     fbm.veins = base.veins;  // with base's vein frequency and width as the descent's start
     NoiseParams marble = fbm;
     marble.bands = 8.0, marble.warp = 1.0, marble.frequency = 2.0;
     NoiseParams layered = fbm;
     layered.layers = true, layered.bands = 2.0, layered.warp = 1.0, layered.k = 0.85;
-    StructureFit best_fit = base.veins ? evaluations.of(fbm) : out.paper;
+    StructureFit best_fit = evaluations.of(fbm);
     // Each start descends on the spectral measures, then folds its layers
     // with the defects too; the starts are compared on all the measures.
     for (NoiseParams start : {fbm, marble, layered}) {
@@ -306,6 +311,7 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
             best_fit = fit;
     }
     out.chosen = best_fit;
+    out.chosen.noise = magnified(best_fit.noise, photo.span);
     out.seconds = clock.seconds();
     out.evaluations = evaluations.count();
     return out;

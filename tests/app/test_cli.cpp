@@ -121,6 +121,23 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
                      "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " + dir.file("plain.vdb"))
                 .code == 0);
     CHECK(jade::read_material_vdb(dir.file("plain.vdb")).noise.sharpen == 0.0);
+
+    // A photo spanning two cube sides: the same estimate, in the photo's
+    // frame, magnified into the cube's (half the frequencies and bands,
+    // twice the warp, one octave more), and the file says so.
+    REQUIRE(run(dir, "volume --photo-span 2 --photo " JADE_DATA_DIR
+                     "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " + dir.file("span.vdb"))
+                .code == 0);
+    const jade::MaterialVolume one = jade::read_material_vdb(dir.file("out.vdb"));
+    const jade::MaterialVolume two = jade::read_material_vdb(dir.file("span.vdb"));
+    CHECK(one.photo_span == 1.0);
+    CHECK(two.photo_span == 2.0);
+    CHECK(two.noise.frequency == one.noise.frequency / 2.0);
+    CHECK(two.noise.bands == one.noise.bands / 2.0);
+    CHECK(two.noise.warp == one.noise.warp * 2.0);
+    CHECK(two.noise.octave_count() == one.noise.octave_count() + 1);
+    CHECK(two.noise.angle == one.noise.angle);
+    CHECK(two.noise.k == one.noise.k);
 }
 
 TEST_CASE("--help documents the flags and exits 0", "[cli]") {
@@ -189,6 +206,10 @@ TEST_CASE("bad input: exit 2, one line naming the problem, no output", "[cli]") 
     require_clean_failure(dir, "volume --photo " + demo + " --sharpen 2 --sharpen-radius 0" + out,
                           "--sharpen-radius must be between 0.25");
     require_clean_failure(dir, "volume --photo " + demo + " --resolution abc" + out, "--resolution");
+    require_clean_failure(dir, "volume --photo " + demo + " --photo-span 0" + out,
+                          "--photo-span must be between 0.125 and 8 cube sides, got 0");
+    require_clean_failure(dir, "volume --photo " + demo + " --photo-span 9" + out, "got 9");
+    require_clean_failure(dir, "volume --photo " + demo + " --photo-span wide" + out, "--photo-span");
     require_clean_failure(dir, "volume --photo " + demo + " --match both" + out, "--match");
     require_clean_failure(dir, "volume --photo " + demo + " --extinction gray-ish" + out, "--extinction");
     require_clean_failure(dir, "volume --photo " + demo + " --out " + dir.file("no/such/dir/v.vdb"),
@@ -811,6 +832,16 @@ TEST_CASE("pipeline: writes every output, whole, and refuses bad input cleanly",
     CHECK_FALSE(printed(r.out, "k_s = (").empty());
     CHECK(printed(again.out, "k_s = (") == printed(r.out, corrected ? "k_s corrected to (" : "k_s = ("));
     CHECK(printed(again.out, "contrast (") == printed(r.out, "contrast ("));
+    // The photo's span is an input of the report; a volume matched at another
+    // span is fitted with a warning saying which.
+    CHECK(json_field(slurp(dir.file("o/report.json")), "photo_span") == " 1.0");
+    const Result wider = run(dir, "--photo " + photo + " --mesh " + kCow + kSmall + " --volume " +
+                                      dir.file("o/volume.vdb") + " --fit none --photo-span 2 --out " + dir.file("o3"));
+    INFO(wider.out << wider.err);
+    REQUIRE(wider.code == 0);
+    CHECK_THAT(wider.out + wider.err, Catch::Contains("was matched to a photo spanning 1 cube sides") &&
+                                          Catch::Contains("--photo-span 2"));
+    CHECK(json_field(slurp(dir.file("o3/report.json")), "photo_span") == " 2.0");
 
     const std::string base = "--photo " + photo + " --mesh " + kCow + kSmall;
     struct Bad {
@@ -1033,8 +1064,8 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK_THAT(guide.err, Catch::Contains("light_guide"));
 }
 
-TEST_CASE("bench fidelity --seeds and --spp: refused below 1 before anything is written", "[cli][fit]") {
-    for (const char* option : {"--seeds", "--spp"}) {
+TEST_CASE("bench fidelity --seeds, --spp and --photo-span: refused at 0 before anything is written", "[cli][fit]") {
+    for (const char* option : {"--seeds", "--spp", "--photo-span"}) {
         TempDir dir;
         require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
                                        "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow + " " + option +

@@ -87,3 +87,33 @@ TEST_CASE("compare image: photo, render and slice side by side, figures on the p
     // Nothing of it spills below the plots.
     CHECK(changed(img, lx, bottom, img.width, img.height, bg) == 0);
 }
+
+TEST_CASE("compare image: a photo spanning four cube sides shows its central square, one side wide",
+          "[compare]") {
+    // Red, with a blue square of a quarter of its width in its middle: at
+    // span 4 the photo's panel is that square alone, at the slice's scale.
+    Photo photo;
+    photo.width = photo.height = 64;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const bool middle = x >= 24 && x < 40 && y >= 24 && y < 40;
+            photo.levels.push_back(middle ? Rgb8{0, 0, 255} : Rgb8{255, 0, 0});
+            photo.foreground.push_back(1);
+        }
+    Film film(32, 32);
+    RgbImage8 slice;
+    slice.width = slice.height = 16;
+    slice.pixels.assign(16 * 16 * 3, 0);
+    const RgbHistogram ph = RgbHistogram::of(photo.levels);
+    const Appearance look;
+    const auto panel_at = [&](double span, int x, int y) {
+        photo.span = span;
+        return pixel(compare_image({photo, film, 1.f, slice, ph, ph, look, "render", "slice"}, 100), x, y);
+    };
+    CHECK(panel_at(1.0, 5, 5) == Rgb8{255, 0, 0});
+    CHECK(panel_at(1.0, 50, 50) == Rgb8{0, 0, 255});
+    CHECK(panel_at(4.0, 5, 5) == Rgb8{0, 0, 255});
+    CHECK(panel_at(4.0, 94, 94) == Rgb8{0, 0, 255});
+    // A photo narrower than a side is shown whole.
+    CHECK(panel_at(0.5, 5, 5) == Rgb8{255, 0, 0});
+}

@@ -84,6 +84,7 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.cube.min == b.cube.min);
     CHECK(a.cube.side == b.cube.side);
     CHECK(a.photo == b.photo);
+    CHECK(a.photo_span == b.photo_span);
 }
 
 }  // namespace
@@ -246,6 +247,7 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     marble.sharpen = 1.5, marble.sharpen_radius = 0.8;  // likewise
     MaterialVolume v = sample_volume(16, OpticalParams{}, marble);
     v.structure = StructureMode::Photo;
+    v.photo_span = 2.5;  // not the default 1
     write_material_vdb(dir.file("v.vdb"), v);
     const MaterialVolume back = read_material_vdb(dir.file("v.vdb"));
     require_same(v, back);
@@ -266,6 +268,21 @@ TEST_CASE("a file from before the fold reads with the isotropic warp it was made
     const MaterialVolume back = read_material_vdb(dir.file("before.vdb"));
     CHECK(back.noise.fold == 1.0);
     CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
+}
+
+TEST_CASE("a file from before the photo's span reads at span 1, and a span out of range is refused", "[vdb]") {
+    TempDir dir;
+    MaterialVolume v = sample_volume(8, OpticalParams{});
+    v.photo_span = 4.0;
+    write_material_vdb(dir.file("v.vdb"), v);
+    auto [grids, meta] = read_all(dir.file("v.vdb"));
+    meta->removeMeta("jade:photo_span");
+    openvdb::io::File(dir.file("before.vdb")).write(*grids, *meta);
+    CHECK(read_material_vdb(dir.file("before.vdb")).photo_span == 1.0);
+    meta->insertMeta("jade:photo_span", openvdb::DoubleMetadata(0.0));
+    openvdb::io::File(dir.file("bad.vdb")).write(*grids, *meta);
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("bad.vdb")),
+                      Catch::Contains("bad.vdb") && Catch::Contains("jade:photo_span"));
 }
 
 TEST_CASE("plain OpenVDB sees four fog-volume grids and the levels with the documented names, types and "

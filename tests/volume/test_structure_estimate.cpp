@@ -46,6 +46,20 @@ NoiseParams layered_truth(std::uint32_t seed, double bands, double warp, double 
     return truth;
 }
 
+// Perlin's marble: 12 bands per side across 100°, warped by half a side, on
+// a 128³ grid.
+NoiseParams marble_truth() {
+    NoiseParams truth;
+    truth.resolution = 128;
+    truth.seed = 3;
+    truth.bands = 12.0;
+    truth.warp = 0.5;
+    truth.frequency = 2.0;
+    truth.k = 0.45;
+    truth.angle = 100.0;
+    return truth;
+}
+
 }  // namespace
 
 TEST_CASE("structure estimate: an oriented fBm's frequency, stretch and angle are recovered", "[structure]") {
@@ -80,15 +94,53 @@ TEST_CASE("structure estimate: an oriented fBm's frequency, stretch and angle ar
     REQUIRE(e.chosen.distance < 0.5 * e.paper.distance);
 }
 
+TEST_CASE("structure estimate: a photo spanning two cube sides gives the cube its structure twice as coarse",
+          "[structure]") {
+    // Marble bands, 12 across the photo, which is taken to show two cube
+    // sides (a slab twice as wide as the object): per cube side the truth
+    // has 6 bands. A slice of the estimated volume, one side wide, must have
+    // the photo's spectrum at the photo's scale on the cube (half its pixels
+    // per side); the truth's parameters taken per cube side (the photo's
+    // structure at its own scale, twice too fine) must not. (Bands, not a
+    // plain fBm: a power law's spectrum looks the same an octave up.)
+    const NoiseParams truth = marble_truth();
+    NoiseParams base;
+    base.resolution = 128;
+    Photo photo = photo_of(truth);
+    photo.span = 2.0;
+    REQUIRE(photo_extent_pixels(photo) == 128.0);
+    REQUIRE(photo_pixels_per_side(photo) == 64.0);
+    const StructureEstimate e = estimate_structure(photo, base);
+    const NoiseParams& got = e.chosen.noise;
+    CAPTURE(got.frequency, got.k, got.stretch, got.angle, got.bands, got.warp, got.octaves, e.chosen.distance,
+            e.paper.distance);
+    CHECK(got.bands >= truth.bands / 2.0 / std::sqrt(2.0));
+    CHECK(got.bands <= truth.bands / 2.0 * std::sqrt(2.0));
+    CHECK(orientation_difference(got.angle, truth.angle) < 10.0);
+    // One octave more, so the finest still reaches the grid's scale.
+    CHECK(got.octave_count() == truth.octave_count() + 1);
+    // The paper's fBm stays one cycle per cube side.
+    CHECK(e.paper.noise.frequency == 1.0);
+
+    const GrayImage luma = photo_luma(photo);
+    std::vector<float> sorted = luma.values;
+    std::sort(sorted.begin(), sorted.end());
+    const TextureSpectrum on_cube = texture_spectrum(luma, photo_pixels_per_side(photo));
+    const auto slice_distance = [&](const NoiseParams& noise) {
+        return structure_distance(texture_spectrum(matched_noise_slice(noise, 64, sorted), 128.0), on_cube);
+    };
+    const double estimated = slice_distance(got), photo_scale = slice_distance(truth);
+    CAPTURE(estimated, photo_scale);
+    CHECK(estimated < 0.5 * photo_scale);
+    // evaluate_structure takes the noise in the cube's frame, as the
+    // estimate returns it: the chosen fit again, bit for bit.
+    const StructureFit again = evaluate_structure(got, photo);
+    CHECK(again.distance == e.chosen.distance);
+    CHECK(again.coherence == e.chosen.coherence);
+}
+
 TEST_CASE("structure estimate: marble bands are told from grain", "[structure]") {
-    NoiseParams truth;
-    truth.resolution = 128;
-    truth.seed = 3;
-    truth.bands = 12.0;
-    truth.warp = 0.5;
-    truth.frequency = 2.0;
-    truth.k = 0.45;
-    truth.angle = 100.0;
+    const NoiseParams truth = marble_truth();
     NoiseParams base;
     base.resolution = 128;
     const StructureEstimate e = estimate_structure(photo_of(truth), base);

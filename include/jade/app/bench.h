@@ -82,6 +82,7 @@ int run_stiff_benchmark(const StiffBenchOptions& options);
 // D(default) / D(paper). Writes both results under `out_dir`.
 struct FidelityBenchOptions {
     std::string photo, mask, mesh;
+    double photo_span = 1.0;       // Photo::span, for both methods
     std::string out_dir = "fidelity-bench";
     int resolution = 256;          // of both volumes
     int width = 512, height = 512; // of both final renders

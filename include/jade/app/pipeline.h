@@ -21,6 +21,7 @@ namespace jade {
 
 struct PipelineOptions {
     std::string photo, mask;
+    double photo_span = 1.0;          // Photo::span: how many cube sides the photo spans
     std::string out_dir;              // "" = "<photo name>-jaderender" in the current folder
     std::string volume;               // a jaderender .vdb to fit instead of building one from the
                                       // photo (its d_s, d_a, density scale and noise are kept)

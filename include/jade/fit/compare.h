@@ -33,7 +33,8 @@ struct ComparePanels {
 // render display-encoded, the slice), each captioned below, then per channel
 // a histogram plot: the photo's as a solid line, the render's as a dotted
 // one, A ticked below the axis, and "A photo|render  S photo|render  D" above
-// (from `look`).
+// (from `look`). A photo that spans more than a cube side (Photo::span) shows
+// its central square one side wide, at the slice's scale.
 RgbImage8 compare_image(const ComparePanels& panels, int panel = 256);
 
 }  // namespace jade

@@ -68,6 +68,7 @@ struct MaterialVolume {
     OpticalParams optics;
     Cube cube;
     std::string photo;           // the photo it was matched to (for the record)
+    double photo_span = 1.0;     // its span (Photo::span): `noise` is in the cube's frame
     // The fit's render → display exposure (docs/design.md, "Display space"):
     // what a render of this volume is multiplied by before sRGB to look like
     // the photo. 0 = never fitted.

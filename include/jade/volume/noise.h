@@ -81,6 +81,13 @@ struct NoiseParams {
     void validate() const;
 };
 
+// The same structure `m` times larger: every frequency (the fBm's, the
+// bands', the veins') divided by m, the warp (a length) times m, and the
+// octaves shifted by log2 m (rounded) so that the finest octave stays at the
+// same frequency per voxel: the detail still reaches the grid's scale. For
+// a photo that spans m cube sides (Photo::span); `p` itself at m = 1.
+NoiseParams magnified(const NoiseParams& p, double m);
+
 // The gradient lattice of one seed: a permutation of 0..255, doubled so
 // indices need no wrap. Built once and shared read-only by every thread.
 class SimplexNoise {

@@ -17,10 +17,18 @@ struct Photo {
     std::vector<Rgb8> levels;             // row-major, row 0 at the top
     std::vector<std::uint8_t> foreground; // 1 where the pixel shows the object
     std::string path;
+    // How many cube sides (the object's size) the foreground's larger side
+    // spans: 1 when the photo is as wide as the object, 4 for a slab four
+    // times as wide, of which the object shows a quarter, its structure four
+    // times coarser than at 1 (docs/design.md, "The photo's span").
+    double span = 1.0;
 
     std::size_t foreground_count() const;
     // The foreground pixels' colours, in row-major order.
     std::vector<Rgb8> foreground_levels() const;
+    // The foreground's bounding box, {x0, y0, width, height} (the whole
+    // image when there is no foreground).
+    std::array<int, 4> foreground_box() const;
 };
 
 // Reads a photo (PNG, JPEG, TIFF, EXR, anything OpenImageIO reads; 8-bit,
@@ -28,8 +36,17 @@ struct Photo {
 // sRGB-encoded already; float images (EXR, float TIFF) are linear and are
 // sRGB-encoded here. The foreground is alpha >= 0.5, or every pixel when there
 // is no alpha; a mask image (same size, white = object, value >= 0.5 in its
-// first channel) replaces the alpha when given. Throws jade::Error on an
-// unreadable file, a mask of another size, or a photo with no foreground.
-Photo load_photo(const std::string& path, const std::string& mask_path = "");
+// first channel) replaces the alpha when given. `span`: Photo::span. Throws
+// jade::Error on an unreadable file, a mask of another size, a photo with no
+// foreground, or a span out of range.
+Photo load_photo(const std::string& path, const std::string& mask_path = "", double span = 1.0);
+
+// The spans a photo may take: from a close-up an eighth of the object's size
+// to a slab eight times as wide (the structure estimate's grids, scaled by
+// the span, stay within NoiseParams::validate's ranges there).
+constexpr double kMinPhotoSpan = 0.125;
+constexpr double kMaxPhotoSpan = 8.0;
+// Throws jade::Error naming --photo-span when `span` is outside them.
+void validate_photo_span(double span);
 
 }  // namespace jade

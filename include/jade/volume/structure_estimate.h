@@ -20,10 +20,13 @@ enum class StructureMode { Fbm, Photo };
 StructureMode parse_structure_mode(const std::string& s);  // "fbm" | "photo"; throws jade::Error
 const char* to_string(StructureMode m);
 
-// The photo's luma as a texture (its foreground as the mask), and how many of
-// its pixels span the cube side: the larger side of the foreground's bounding
-// box (a slab photo spans the side it shows).
+// The photo's luma as a texture (its foreground as the mask); how many of its
+// pixels the foreground's bounding box spans along its larger side (the
+// photo's own frame, in which the estimate below works); and how many span
+// the cube side: that over the photo's span (Photo::span; a slab photo at
+// span 1 spans the side it shows).
 GrayImage photo_luma(const Photo& photo);
+double photo_extent_pixels(const Photo& photo);
 double photo_pixels_per_side(const Photo& photo);
 
 // Slice z of the noise, as seen from +z (row 0 at the top, the largest y),
@@ -44,6 +47,9 @@ struct StructureFit {
 };
 StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo);
 
+// The noise of a StructureFit is in the cube's frame (cycles per cube side);
+// its measures compare slices at the photo's own scale, the noise magnified
+// down by the photo's span (magnified in noise.h), with the photo.
 struct StructureEstimate {
     StructureFit chosen;   // the estimated parameters
     StructureFit paper;    // the paper's fBm (f_0 = 1, r = 1, no bands, same k and seed), for comparison
@@ -53,7 +59,8 @@ struct StructureEstimate {
 };
 // Searches f_0, k, r, the bands b and their warp a (coordinate descent over fixed grids, from the
 // paper's fBm, a marble and folded layers, NoiseParams::layers) with the angle taken from the
-// photo's orientation, then the bands' fold and warp together over their whole grid. `base`
+// photo's orientation, then the bands' fold and warp together over their whole grid, in the
+// photo's frame, and magnifies the outcome by the photo's span. `base`
 // gives the resolution, octaves and seed, and whether the structure has veins
 // (NoiseParams::veins; then their frequency and width are searched too).
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base);
