@@ -213,9 +213,10 @@ int run_volume(VolumeOptions& o) {
     const double write_s = t_write.seconds();
 
     if (structure == jade::StructureMode::Photo)
-        std::printf("structure from the photo in %.2f s: slice-to-photo structure distance %.3f (the paper's "
+        std::printf("structure from the photo%s in %.2f s: slice-to-photo structure distance %.3f (the paper's "
                     "fBm: %.3f); orientation strength %.2f, coherence %.2f, "
                     "orientation defects %.3f (photo: %.2f, %.2f, %.3f)\n",
+                    jade::photo_span_note(photo.span).c_str(),
                     estimate.seconds, estimate.chosen.distance, estimate.paper.distance, estimate.chosen.strength,
                     estimate.chosen.coherence, estimate.chosen.defects, estimate.photo.strength,
                     estimate.photo.coherence, estimate.photo.defects);

@@ -105,6 +105,13 @@ void validate_photo_span(double span) {
     }
 }
 
+std::string photo_span_note(double span) {
+    if (span == 1.0) return "";
+    char text[48];
+    std::snprintf(text, sizeof text, " (spanning %g cube sides)", span);
+    return text;
+}
+
 Photo load_photo(const std::string& path, const std::string& mask_path, double span) {
     validate_photo_span(span);
     const RawImage img = read_raw(path);

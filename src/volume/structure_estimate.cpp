@@ -268,6 +268,7 @@ StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base
     Evaluations evaluations(texture);
     StructureEstimate out;
     out.photo = texture.spectrum;
+    out.photo_span = photo.span;
     // The search runs in the photo's frame and its outcome is magnified by
     // the photo's span into the cube's (docs/design.md, "The photo's span");
     // the paper's fBm, one cycle per cube side, is span cycles per photo.

@@ -125,9 +125,12 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
     // A photo spanning two cube sides: the same estimate, in the photo's
     // frame, magnified into the cube's (half the frequencies and bands,
     // twice the warp, one octave more), and the file says so.
-    REQUIRE(run(dir, "volume --photo-span 2 --photo " JADE_DATA_DIR
-                     "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " + dir.file("span.vdb"))
-                .code == 0);
+    const Result spanned = run(dir, "volume --photo-span 2 --photo " JADE_DATA_DIR
+                                    "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
+                                        dir.file("span.vdb"));
+    REQUIRE(spanned.code == 0);
+    CHECK_THAT(spanned.out, Catch::Contains("structure from the photo (spanning 2 cube sides) in"));
+    CHECK_THAT(r.out, !Catch::Contains("spanning"));
     const jade::MaterialVolume one = jade::read_material_vdb(dir.file("out.vdb"));
     const jade::MaterialVolume two = jade::read_material_vdb(dir.file("span.vdb"));
     CHECK(one.photo_span == 1.0);

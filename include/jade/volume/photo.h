@@ -48,5 +48,7 @@ constexpr double kMinPhotoSpan = 0.125;
 constexpr double kMaxPhotoSpan = 8.0;
 // Throws jade::Error naming --photo-span when `span` is outside them.
 void validate_photo_span(double span);
+// " (spanning S cube sides)" for a summary line; "" at span 1.
+std::string photo_span_note(double span);
 
 }  // namespace jade

@@ -54,6 +54,7 @@ struct StructureEstimate {
     StructureFit chosen;   // the estimated parameters
     StructureFit paper;    // the paper's fBm (f_0 = 1, r = 1, no bands, same k and seed), for comparison
     TextureSpectrum photo;
+    double photo_span = 1.0;  // the photo's span, by which the outcome was magnified (Photo::span)
     double seconds = 0.0;
     int evaluations = 0;   // candidate structures evaluated (two matched slices each), repeats not counted
 };
