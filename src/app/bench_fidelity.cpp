@@ -226,9 +226,8 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     std::error_code ec;
     fs::create_directories(b.out_dir, ec);
     if (ec) fail_file(b.out_dir, "cannot create the output folder: " + ec.message());
-    std::printf("fidelity: %s (spanning %g cube sides) on %s, volume %d^3, final renders %dx%d at %d spp, %d seed%s; "
-                "results in %s/\n",
-                b.photo.c_str(), b.photo_span, b.mesh.c_str(), b.resolution, b.width, b.height, b.spp, b.seeds,
+    std::printf("fidelity: %s%s on %s, volume %d^3, final renders %dx%d at %d spp, %d seed%s; results in %s/\n",
+                b.photo.c_str(), photo_span_note(b.photo_span).c_str(), b.mesh.c_str(), b.resolution, b.width, b.height, b.spp, b.seeds,
                 b.seeds > 1 ? "s" : "", b.out_dir.c_str());
     std::fflush(stdout);
     std::vector<SeedDistances> distances;

@@ -461,7 +461,8 @@ void print_render_summary(const PipelineResult& r) {
     if (r.structure_estimated)
         std::printf("structure from the photo%s in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
                     "bands %.1f, warp %.2f%s; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",
-                    photo_span_note(r.structure.photo_span).c_str(), r.seconds_structure, r.structure.chosen.noise.frequency, r.structure.chosen.noise.k,
+                    photo_span_note(r.structure.photo_span).c_str(), r.seconds_structure,
+                    r.structure.chosen.noise.frequency, r.structure.chosen.noise.k,
                     r.structure.chosen.noise.stretch, r.structure.chosen.noise.angle, r.structure.chosen.noise.bands,
                     r.structure.chosen.noise.warp, r.structure.chosen.noise.family_suffix().c_str(),
                     r.structure.chosen.distance,

@@ -410,8 +410,11 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     // Files from before the span were matched to a photo a cube side wide.
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:photo_span")) {
         v.photo_span = m->value();
-        if (!(v.photo_span >= kMinPhotoSpan && v.photo_span <= kMaxPhotoSpan))
-            fail_file(path, "metadata 'jade:photo_span' must be between 0.125 and 8");
+        try {
+            validate_photo_span(v.photo_span, "metadata 'jade:photo_span'");
+        } catch (const Error& e) {
+            fail_file(path, e.what());
+        }
     }
     v.noise.resolution = v.resolution;
     v.noise.octaves = int(required_int(meta, path, "jade:octaves"));

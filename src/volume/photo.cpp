@@ -96,10 +96,10 @@ std::uint8_t to_level(float v, bool linear) {
 
 }  // namespace
 
-void validate_photo_span(double span) {
+void validate_photo_span(double span, const char* name) {
     if (!(span >= kMinPhotoSpan && span <= kMaxPhotoSpan)) {
-        char text[160];
-        std::snprintf(text, sizeof text, "--photo-span must be between %g and %g cube sides, got %g", kMinPhotoSpan,
+        char text[200];
+        std::snprintf(text, sizeof text, "%s must be between %g and %g cube sides, got %g", name, kMinPhotoSpan,
                       kMaxPhotoSpan, span);
         throw Error(text);
     }

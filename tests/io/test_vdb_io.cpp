@@ -282,7 +282,8 @@ TEST_CASE("a file from before the photo's span reads at span 1, and a span out o
     meta->insertMeta("jade:photo_span", openvdb::DoubleMetadata(0.0));
     openvdb::io::File(dir.file("bad.vdb")).write(*grids, *meta);
     CHECK_THROWS_WITH(read_material_vdb(dir.file("bad.vdb")),
-                      Catch::Contains("bad.vdb") && Catch::Contains("jade:photo_span"));
+                      Catch::Contains("bad.vdb") && Catch::Contains("jade:photo_span") &&
+                          Catch::Contains("must be between 0.125 and 8 cube sides, got 0"));
 }
 
 TEST_CASE("plain OpenVDB sees four fog-volume grids and the levels with the documented names, types and "

@@ -46,8 +46,9 @@ Photo load_photo(const std::string& path, const std::string& mask_path = "", dou
 // the span, stay within NoiseParams::validate's ranges there).
 constexpr double kMinPhotoSpan = 0.125;
 constexpr double kMaxPhotoSpan = 8.0;
-// Throws jade::Error naming --photo-span when `span` is outside them.
-void validate_photo_span(double span);
+// Throws jade::Error naming `name` (the flag, or a file's metadata) when
+// `span` is outside them.
+void validate_photo_span(double span, const char* name = "--photo-span");
 // " (spanning S cube sides)" for a summary line; "" at span 1.
 std::string photo_span_note(double span);
 
