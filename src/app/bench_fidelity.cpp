@@ -97,7 +97,7 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     if (def.structure_estimated)
         std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, volume slice", def.structure.chosen.distance,
                     "", def.structure.paper.distance);
-    std::printf("  %-34s  %8d %18s  %8d\n", "fitting renders", def.fit.renders, "", paper.fit.renders);
+    std::printf("  %-34s  %8d %18s  %8d\n", "fitting renders", fit_renders(def), "", fit_renders(paper));
     std::printf("  %-34s  %8.1f %18s  %8.1f\n", "seconds: fit", def.seconds_fit, "", paper.seconds_fit);
     std::printf("  %-34s  %8.1f %18s  %8.1f\n", "seconds: volume", def.seconds_volume, "", paper.seconds_volume);
     std::printf("  %-34s  %8.1f %18s  %8.1f\n", "seconds: total (less measuring)",

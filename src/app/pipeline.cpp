@@ -88,20 +88,57 @@ struct FittedVolume {
     }
 };
 
+// Whether a sharper stone may follow the first fit
+// (PipelineOptions::sharpen_from_fit): a volume built here, fitted by
+// --fit contrast.
+bool sharpens_after(const PipelineOptions& o) {
+    return o.sharpen_from_fit && o.volume.empty() && o.fit.method == FitMethod::Contrast;
+}
+
+// The first fit's options: where a sharper stone may follow and the stone
+// is sharpened less than kDefaultSharpen, the fit stops where the density
+// scale reaches its ceiling, where sharpening_for would choose that stone
+// anyway: its fit takes the search on from there, and the steps the first
+// stone would have spent converging at the ceiling are not made (the demo:
+// 6 renders fewer; docs/design.md, "Sharpening").
+FitOptions first_fit_options(const PipelineOptions& o, const MaterialVolume& volume) {
+    FitOptions fit = o.fit;
+    fit.stop_at_density_ceiling = sharpens_after(o) && volume.noise.sharpen < kDefaultSharpen;
+    return fit;
+}
+
+// A fit of `volume` from `from`'s outcome (FitStart), with half the
+// pipeline's budget of renders: the sharper stone's, or the first stone's
+// resumed where it stopped at the ceiling.
+std::unique_ptr<FittedVolume> fit_from(const PipelineOptions& o, const Photo& photo, const PreparedScene& prep,
+                                       MaterialVolume volume, const FitOutcome& from, const char* label) {
+    volume.optics.density_scale = from.density_scale;
+    FitOptions fit = o.fit;
+    fit.start = start_from(from);
+    fit.max_renders = std::max(kMinContrastRenders, o.fit.max_renders / 2);
+    auto next = std::make_unique<FittedVolume>(std::move(volume), prep, photo, o.render.settings, fit);
+    next->fit(o, label, fit.max_renders);
+    return next;
+}
+
 // The sharper stone (PipelineOptions::sharpen_from_fit): the sharpening
 // `first`'s fit asks for (sharpening_for), where it is more than its own,
 // fitted from that fit's outcome with half its budget of renders, and kept
-// where that fit converges. Returns the volume and fit kept.
+// where that fit converges. Where the first fit stopped at the density
+// scale's ceiling and the sharper stone's does not converge from there,
+// the first stone's fit goes on from its stop. Returns the volume and fit
+// kept.
 std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const Photo& photo,
                                                 const PreparedScene& prep, std::unique_ptr<FittedVolume> first,
                                                 PipelineResult& res) {
-    if (!o.sharpen_from_fit || !o.volume.empty() || o.fit.method != FitMethod::Contrast) return first;
+    if (!sharpens_after(o)) return first;
     const SharpeningChoice choice = sharpening_for(first->outcome);
     SharperStone& sharper = res.sharper.emplace();
     sharper.first = first->volume.noise.sharpen;
     sharper.sharper = choice.amount;
     sharper.why = choice.why;
     sharper.tried = choice.amount > sharper.first;
+    sharper.from_ceiling = first->outcome.stopped_at_density_ceiling;
     if (!sharper.tried) return first;
     const Stopwatch clock;
     NoiseParams noise = first->volume.noise;
@@ -112,17 +149,18 @@ std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const 
     bar.reset();
     volume.structure = first->volume.structure;
     volume.cube = first->volume.cube;
-    volume.optics.density_scale = first->outcome.density_scale;
-    FitOptions fit = o.fit;
-    fit.start = start_from(first->outcome);
-    fit.max_renders = std::max(kMinContrastRenders, o.fit.max_renders / 2);
-    auto next = std::make_unique<FittedVolume>(std::move(volume), prep, photo, o.render.settings, fit);
-    next->fit(o, "fitting the sharper stone", fit.max_renders);
+    sharper.sharper_began = first->outcome.seconds + clock.seconds();
+    auto next = fit_from(o, photo, prep, std::move(volume), first->outcome, "fitting the sharper stone");
     sharper.seconds = clock.seconds();
     sharper.kept = next->outcome.converged;
     if (!sharper.kept) {
         sharper.other = next->outcome;
-        return first;
+        if (!sharper.from_ceiling) return first;
+        sharper.stopped = first->outcome;
+        sharper.resumed_began = first->outcome.seconds + clock.seconds();
+        auto resumed = fit_from(o, photo, prep, first->volume, first->outcome, "fitting the first stone on");
+        sharper.seconds = clock.seconds();
+        return resumed;
     }
     sharper.other = first->outcome;
     res.structure.chosen.noise.sharpen = noise.sharpen;  // the noise the volume written was built with
@@ -301,19 +339,17 @@ RenderJob replay_job(const PipelineOptions& o, const PreparedScene& prep, const 
     return job;
 }
 
-// fit.csv's rows: the first fit's, then the sharper stone's where one was
-// fitted, their iterations and seconds running on.
+// fit.csv's rows: those of each fit in the order they ran, their
+// iterations and seconds running on.
 std::vector<FitRecord> fit_rows(const PipelineResult& res) {
-    if (!res.sharper || !res.sharper->tried) return res.fit.records;
-    const FitOutcome& first = res.sharper->kept ? res.sharper->other : res.fit;
-    const FitOutcome& sharper = res.sharper->kept ? res.fit : res.sharper->other;
-    std::vector<FitRecord> rows = first.records;
-    // The sharper stone's fit began after the first and the sharper levels.
-    const double offset = first.seconds + res.sharper->seconds - sharper.seconds;
-    for (FitRecord r : sharper.records) {
-        r.iteration += int(first.records.size());
-        r.seconds += offset;
-        rows.push_back(r);
+    std::vector<FitRecord> rows;
+    for (const FitLeg& leg : fit_legs(res)) {
+        const int before = int(rows.size());
+        for (FitRecord r : leg.fit->records) {
+            r.iteration += before;
+            r.seconds += leg.began;
+            rows.push_back(r);
+        }
     }
     return rows;
 }
@@ -384,6 +420,20 @@ std::string default_out_dir(const std::string& photo) {
     return fs::path(photo).stem().string() + "-jaderender";
 }
 
+std::vector<FitLeg> fit_legs(const PipelineResult& res) {
+    if (!res.sharper || !res.sharper->tried) return {{&res.fit, 0.0}};
+    const SharperStone& sh = *res.sharper;
+    if (sh.kept) return {{&sh.other, 0.0}, {&res.fit, sh.sharper_began}};
+    if (sh.stopped) return {{&*sh.stopped, 0.0}, {&sh.other, sh.sharper_began}, {&res.fit, sh.resumed_began}};
+    return {{&res.fit, 0.0}, {&sh.other, sh.sharper_began}};
+}
+
+int fit_renders(const PipelineResult& res) {
+    int renders = 0;
+    for (const FitLeg& leg : fit_legs(res)) renders += leg.fit->renders;
+    return renders;
+}
+
 PipelineResult run_pipeline(const PipelineOptions& o) {
     const Stopwatch total;
     o.noise.validate();
@@ -404,7 +454,8 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     MaterialVolume volume = make_volume(o, photo, prep->cube, res);
     res.seconds_volume = clock.seconds();
 
-    auto fitted = std::make_unique<FittedVolume>(std::move(volume), *prep, photo, o.render.settings, o.fit);
+    const FitOptions first_fit = first_fit_options(o, volume);
+    auto fitted = std::make_unique<FittedVolume>(std::move(volume), *prep, photo, o.render.settings, first_fit);
     fitted->fit(o, o.fit.method == FitMethod::Contrast ? "fitting k_s and contrast" : "fitting k_s",
                 o.fit.max_renders);
     res.seconds_fit = fitted->outcome.seconds;

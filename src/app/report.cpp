@@ -217,7 +217,9 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
         {"step", fit.limits.step}, {"ks_start", fit.ks_start}, {"ks_min", fit.limits.k_min},
         {"ks_max", fit.limits.k_max}, {"ks", fit.ks}, {"contrast_start", fit.contrast_start},
         {"contrast", fit.contrast}, {"density_scale_start", fit.density_scale_start},
-        {"density_scale", fit.density_scale}, {"converged", fit.converged}, {"channel_status", status}};
+        {"density_scale", fit.density_scale}, {"density_scale_max", fit.density_scale_max},
+        {"converged", fit.converged}, {"stopped_at_density_ceiling", fit.stopped_at_density_ceiling},
+        {"channel_status", status}};
     if (o.fit.method == FitMethod::Contrast)
         j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
                   {"material", fit.s_material}, {"material_block", fit.material_block},
@@ -235,7 +237,9 @@ nlohmann::json sharper_json(const PipelineOptions& o, const SharperStone& sh) {
                         {"kept", sh.kept}};
     if (!sh.tried) return j;
     j["seconds"] = sh.seconds;
+    j["from_ceiling"] = sh.from_ceiling;
     j[sh.kept ? "first_fit" : "sharper_fit"] = fit_json(o, sh.other);
+    if (sh.stopped) j["first_fit_stopped"] = fit_json(o, *sh.stopped);
     return j;
 }
 
@@ -332,8 +336,18 @@ void print_sharper_summary(const SharperStone& sh, const FitOutcome& kept) {
         std::printf("  sharpening %g: %s\n", sh.first, sh.why.c_str());
         return;
     }
-    const FitOutcome& first = sh.kept ? sh.other : kept;
     const FitOutcome& sharper = sh.kept ? kept : sh.other;
+    if (sh.from_ceiling) {
+        const FitOutcome& first = sh.kept ? sh.other : *sh.stopped;
+        std::printf("  sharpening %g (%s): the first fit (sharpening %g) stopped there after %d renders, and the "
+                    "sharper stone's fit took its search on in %d renders, %.1f s: %s",
+                    sh.sharper, sh.why.c_str(), sh.first, first.renders, sharper.renders, sh.seconds,
+                    sh.kept ? "converged, kept\n" : "NOT converged; ");
+        if (!sh.kept)
+            std::printf("the first stone's fit went on from its stop in %d renders, its volume kept\n", kept.renders);
+        return;
+    }
+    const FitOutcome& first = sh.kept ? sh.other : kept;
     std::printf("  sharpening %g (%s): fitted from the first fit's outcome (sharpening %g) in %d renders, %.1f s: "
                 "%s; the first fit: %d renders, contrast (%.3f, %.3f, %.3f), density scale %.4g\n",
                 sh.sharper, sh.why.c_str(), sh.first, sharper.renders, sh.seconds,
@@ -362,8 +376,8 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
     else
         std::snprintf(goal, sizeof goal, "|dA| < %g in every channel, |dS| < %g where the contrast was fitted",
                       fit.limits.tolerance, o.fit.s_tolerance);
-    // Both fits' renders where the sharper stone was fitted too.
-    const int renders = fit.renders + (r.sharper && r.sharper->tried ? r.sharper->other.renders : 0);
+    // Every fit's renders where the sharper stone was fitted too.
+    const int renders = fit_renders(r);
     std::printf("fit (%s): %d renders at %d spp in %.1f s; exposure %.4f; k_s = (%.4f, %.4f, %.4f); contrast "
                 "(%.3f, %.3f, %.3f); %s\n",
                 to_string(o.fit.method), renders, fit.spp, r.seconds_fit, fit.exposure, fit.ks[0], fit.ks[1],
@@ -375,7 +389,7 @@ void print_fit_summary(const PipelineOptions& o, const PipelineResult& r) {
                     "(from %.4g)\n",
                     fit.s_material[0], fit.s_material[1], fit.s_material[2], fit.material_block, fit.s_photo[0],
                     fit.s_photo[1], fit.s_photo[2], fit.density_scale,
-                    r.sharper && r.sharper->kept ? r.sharper->other.density_scale_start : fit.density_scale_start);
+                    fit_legs(r).front().fit->density_scale_start);
     if (r.sharper) print_sharper_summary(*r.sharper, fit);
     if (contrast && fit.spread_spp_raised_from > 0)
         std::printf("  S_material hid in the noise of the first step's renders at %d spp; read at %d spp, as the fit "

@@ -689,6 +689,8 @@ struct FitSession::ContrastSearch {
     // The warnings for the channels whose S the first step could not read,
     // given once the count of samples is settled (raise_spread_spp).
     std::vector<std::string> hidden_warnings;
+    // Stopped at the density scale's ceiling (FitOptions::stop_at_density_ceiling).
+    bool stopped = false;
 };
 
 // One step of --fit contrast at (k_s, g): the volume and its mean medium
@@ -789,8 +791,14 @@ void FitSession::fit_contrast(const std::array<double, 3>& brightness_slope) {
         // A step in density scale needs two more steps to be judged; it
         // changes every channel's S, so not where one channel's S is hidden.
         const bool every_spread_seen = st.spread_seen == std::array<bool, 3>{true, true, true};
-        if (every_spread_seen && options_.fit_density && fitting_renders() + 2 * step_cost() <= options_.max_renders)
-            raise_density_scale(st, st.s_photo);
+        const bool raised = every_spread_seen && options_.fit_density &&
+                            fitting_renders() + 2 * step_cost() <= options_.max_renders &&
+                            raise_density_scale(st, st.s_photo);
+        if (raised && options_.stop_at_density_ceiling &&
+            at_density_ceiling(density_scale_, outcome_.density_scale_max)) {
+            st.stopped = true;
+            break;
+        }
     }
     finish_contrast(st);
 }
@@ -904,6 +912,24 @@ void FitSession::finish_contrast(const ContrastSearch& st) {
     outcome_.spread_spp = spread_spp();
     outcome_.density_scale = density_scale_;
     for (int c = 0; c < 3; ++c) outcome_.brightness_slope[c] = st.jacobian[c].m[0][0];
+    if (st.stopped) {
+        // Where the search goes on (start_from): the point it would render
+        // next, at the ceiling.
+        outcome_.stopped_at_density_ceiling = true;
+        outcome_.converged = false;
+        outcome_.ks = st.k;
+        outcome_.contrast = st.g;
+        char why[200];
+        std::snprintf(why, sizeof why,
+                      "stopped where the density scale reached its ceiling (%.4g), for the sharper stone's fit to "
+                      "take the search on",
+                      density_scale_);
+        for (int c = 0; c < 3; ++c) {
+            outcome_.state[c] = ChannelState::Searching;
+            outcome_.reason[c] = std::string(channel_name(c)) + ": " + why;
+        }
+        return;
+    }
     outcome_.converged = true;
     for (int c = 0; c < 3; ++c) {
         outcome_.state[c] = st.done[c] ? ChannelState::Converged : ChannelState::Unreachable;
@@ -968,7 +994,7 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
 }
 
 // Where a channel's next contrast is above kContrastCeiling, the density
-// scale rises instead. The channel's S must still grow by the photo's S over
+// scale rises instead (true where it did). The channel's S must still grow by the photo's S over
 // the S its render had at the ceiling (S grows about in proportion to the
 // contrast up to it); the density scale rises by the factor expected to
 // give that (S ∝ density scale^α), for the channel that needs most. Every
@@ -980,7 +1006,7 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
 // no channel is done, the best (k_s, g) and the Jacobian's terms in g are
 // forgotten (they belong to the old one); dA/dk_s is kept, and the next
 // step does not correct it.
-void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double, 3>& s_photo) {
+bool FitSession::raise_density_scale(ContrastSearch& st, const std::array<double, 3>& s_photo) {
     double need = 1.0;
     for (int c = 0; c < 3; ++c)
         if (!st.done[c] && st.g[c] > kContrastCeiling && st.s_last[c] > 0.0)
@@ -988,7 +1014,7 @@ void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double
     const double room = outcome_.density_scale_max / density_scale_;
     measure_density_exponent(st);
     const double gain = std::min({std::pow(need, 1.0 / st.alpha), kMaxDensityStep, room});
-    if (!(gain >= kMinDensityStep)) return;
+    if (!(gain >= kMinDensityStep)) return false;
     st.g_at_raise = st.g_last;
     st.s_at_raise = st.s_last;
     st.delta_at_raise = st.delta_last;
@@ -1005,6 +1031,7 @@ void FitSession::raise_density_scale(ContrastSearch& st, const std::array<double
         jac.m[0][1] = jac.m[1][0] = jac.m[1][1] = 0.0;
     }
     st.have_prev = false;
+    return true;
 }
 
 // α from the last step in density scale: the mean over the channels that
@@ -1039,12 +1066,16 @@ FitStart start_from(const FitOutcome& fit) {
     return start;
 }
 
+bool at_density_ceiling(double density_scale, double density_scale_max) {
+    return density_scale * kMinDensityStep > density_scale_max;
+}
+
 SharpeningChoice sharpening_for(const FitOutcome& fit) {
+    if (fit.stopped_at_density_ceiling) return {kDefaultSharpen, "the density scale rose to its ceiling"};
     if (!fit.converged) return {0.0, "the fit did not converge"};
     if (!(fit.density_scale > fit.density_scale_start))
         return {0.0, "the density scale stayed at the volume's own, where light spreads over many voxels"};
-    // Where the density could not rise by another step, it is at its ceiling.
-    if (fit.density_scale * kMinDensityStep > fit.density_scale_max)
+    if (at_density_ceiling(fit.density_scale, fit.density_scale_max))
         return {kDefaultSharpen, "the density scale rose to its ceiling"};
     return {kSharperStone, "the density scale rose, short of its ceiling"};
 }

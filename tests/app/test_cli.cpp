@@ -4,6 +4,7 @@
 
 #include "jade/app/job.h"
 #include "jade/core/memory.h"
+#include "jade/fit/fit_session.h"
 #include "jade/io/image_io.h"
 #include "jade/io/vdb_io.h"
 #include "jade/volume/sharpen.h"
@@ -733,6 +734,84 @@ TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling
     CHECK(plain["volume"]["sharpen"] == 0.0);
     CHECK(plain["fit"] == first_fit);
     CHECK_THAT(given.out, !Catch::Contains("sharpening"));
+}
+
+TEST_CASE("pipeline: where the first fit reaches the density scale's ceiling, it stops there for the sharper stone",
+          "[cli][fit]") {
+    // Hard stripes, 8 across, on the cow at this size: the first fit raises
+    // the density scale to its ceiling (8 × 20) and stops there; the stone
+    // sharpened by kDefaultSharpen takes the search on from that point.
+    // Here it does not converge either (the stripes' edges ask more than
+    // any contrast gives at 64²), so the unsharpened stone's fit goes on
+    // from its stop and is kept: three fits, in that order.
+    TempDir dir;
+    const int w = 256, h = 256;
+    std::vector<std::uint8_t> px;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const int v = std::sin(2.0 * M_PI * 8.0 * x / w) > 0.0 ? 1 : 0;
+            px.insert(px.end(), {std::uint8_t(90 + 60 * v), std::uint8_t(66 + 48 * v), std::uint8_t(42 + 36 * v)});
+        }
+    jade::write_image_u8(dir.file("stripes.png"), w, h, 3, px);
+    const Result r = run(dir, "--photo " + dir.file("stripes.png") + " --mesh " + kCow +
+                                  " --resolution 48 --width 64 --height 64 --spp 16 --fit-width 32 --fit-spp 16 --out " +
+                                  dir.file("out"));
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    const nlohmann::json report = nlohmann::json::parse(slurp(dir.file("out/report.json")));
+    REQUIRE(report.contains("sharpening"));
+    const nlohmann::json& sharpening = report["sharpening"];
+    CHECK(sharpening["chosen"] == jade::kDefaultSharpen);
+    CHECK_THAT(sharpening["why"].get<std::string>(), Catch::Contains("ceiling"));
+    REQUIRE(sharpening["tried"] == true);
+    REQUIRE(sharpening["from_ceiling"] == true);
+    REQUIRE(sharpening["kept"] == false);
+    REQUIRE(sharpening.contains("first_fit_stopped"));
+    const nlohmann::json& stopped = sharpening["first_fit_stopped"];
+    const nlohmann::json& sharper = sharpening["sharper_fit"];
+    const nlohmann::json& resumed = report["fit"];
+    // The first fit stopped at its ceiling, rendering nothing there; both
+    // later fits start from the point it named, at that density scale.
+    CHECK(stopped["stopped_at_density_ceiling"] == true);
+    CHECK(stopped["converged"] == false);
+    CHECK(stopped["density_scale_start"] == 20.0);
+    const double ceiling = stopped["density_scale"];
+    CHECK(stopped["density_scale_max"] == 160.0);
+    CHECK(ceiling <= 160.0);
+    CHECK(jade::at_density_ceiling(ceiling, 160.0));
+    for (const nlohmann::json* later : {&sharper, &resumed}) {
+        CHECK((*later)["stopped_at_density_ceiling"] == false);
+        CHECK((*later)["density_scale_start"] == stopped["density_scale"]);
+        CHECK((*later)["ks_start"] == stopped["ks"]);
+        CHECK((*later)["contrast_start"] == stopped["contrast"]);
+        CHECK((*later)["exposure"] == stopped["exposure"]);
+    }
+    CHECK(sharper["converged"] == false);
+    CHECK(report["volume"]["sharpen"] == 0.0);
+    CHECK(jade::read_material_vdb(dir.file("out/volume.vdb")).noise.sharpen == 0.0);
+    // fit.csv: the three fits' rows in the order they ran, iterations and
+    // seconds running on, none of the first fit's at the ceiling.
+    const auto rows = csv_rows(dir.file("out/fit.csv"));
+    REQUIRE(rows.size() > 3);
+    std::vector<std::string> sharpen_column;
+    double seconds = 0.0;
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        CHECK(std::stoi(rows[i]) == int(i - 1));
+        const double t = std::stod(rows[i].substr(rows[i].find(',') + 1));
+        CHECK(t >= seconds);
+        seconds = t;
+        const std::string amount = rows[i].substr(rows[i].rfind(',') + 1);
+        if (sharpen_column.empty() || sharpen_column.back() != amount) sharpen_column.push_back(amount);
+    }
+    CHECK(sharpen_column == std::vector<std::string>{"0", "0.5", "0"});
+    const int renders = stopped["renders"].get<int>() + sharper["renders"].get<int>() + resumed["renders"].get<int>();
+    CHECK_THAT(r.out, Catch::Contains("fit (contrast): " + std::to_string(renders) + " renders"));
+    char density[64];
+    std::snprintf(density, sizeof density, "density scale %.4g (from 20)", ceiling);
+    CHECK_THAT(r.out, Catch::Contains(density));
+    CHECK_THAT(r.out, Catch::Contains("the first fit (sharpening 0) stopped there after " +
+                                      std::to_string(stopped["renders"].get<int>()) + " renders"));
+    CHECK_THAT(r.out, Catch::Contains("the first stone's fit went on from its stop"));
 }
 
 TEST_CASE("pipeline: the brightness check reads the final render's first quarter, unless a budget could cut it",

@@ -576,6 +576,80 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
     CHECK(most > *std::max_element(out.contrast.begin(), out.contrast.end()));
 }
 
+TEST_CASE("contrast fit: stopped where the density scale reaches its ceiling, the point it would render next kept",
+          "[fitter][contrast][fit-session]") {
+    // The "photo" is the volume at 32× its density scale and contrast 4,
+    // beyond the fit's ceiling of 8×: the density scale rises to that
+    // ceiling (at 16× and 3.5 the fit matched at 6.4×). Asked to stop
+    // there (the pipeline's first fit, which the sharper stone's takes on
+    // from there), the fit makes no render at the ceiling, says where it
+    // would have rendered next, and asks for kDefaultSharpen; a fit not
+    // asked to stop goes the same way to that point and renders it next.
+    test::FitTestScene t(test::ramp_photo(40, 190, 20), 32);
+    RenderSettings settings;
+    const double start = t.volume.optics.density_scale;
+    MaterialVolume dense = t.volume;
+    dense.optics.density_scale = 32.0 * start;
+    FitOptions make;
+    make.width = t.camera.width;
+    make.exposure = 4.f;
+    const Photo photo = flat_photo(t, dense, make, {0.5, 0.3, 0.1}, {4.0, 4.0, 4.0}, 512);
+
+    FitOptions options = make;
+    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
+    options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
+    options.spp = 64;
+    options.max_renders = 32;
+    options.stop_at_density_ceiling = true;
+    FitSession session(t.volume, t.scene, t.camera, settings, photo, options);
+    const FitOutcome stopped = session.run();
+    std::ostringstream path;
+    for (const FitRecord& r : stopped.records) path << " " << r.density_scale;
+    INFO("density scales rendered:" << path.str() << "; stopped at " << stopped.density_scale << " in "
+                                    << stopped.renders << " renders; " << stopped.reason[0]);
+    REQUIRE(stopped.stopped_at_density_ceiling);
+    CHECK_FALSE(stopped.converged);
+    CHECK(stopped.density_scale == stopped.density_scale_max);
+    CHECK(stopped.density_scale_max == 8.0 * start);
+    CHECK(at_density_ceiling(stopped.density_scale, stopped.density_scale_max));
+    for (const FitRecord& r : stopped.records) CHECK(r.density_scale < stopped.density_scale);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(stopped.state[c] == ChannelState::Searching);
+        CHECK_THAT(stopped.reason[c], Catch::Contains("ceiling"));
+        CHECK(stopped.contrast[c] > 0.0);
+        CHECK(stopped.contrast[c] <= kMaxContrast);
+        CHECK(stopped.ks[c] >= stopped.limits.k_min[c]);
+        CHECK(stopped.ks[c] <= stopped.limits.k_max);
+    }
+    CHECK(sharpening_for(stopped).amount == kDefaultSharpen);
+    CHECK_THAT(sharpening_for(stopped).why, Catch::Contains("ceiling"));
+
+    // Not asked to stop, with a budget of two steps more (a step in density
+    // scale is taken only where two steps can judge it): the same renders,
+    // then a step at the ceiling, at the point the stopped fit named.
+    options.stop_at_density_ceiling = false;
+    options.max_renders = stopped.renders + 4;
+    FitSession on(t.volume, t.scene, t.camera, settings, photo, options);
+    const FitOutcome further = on.run();
+    REQUIRE(further.records.size() > stopped.records.size());
+    for (std::size_t i = 0; i < stopped.records.size(); ++i) {
+        CHECK(further.records[i].ks == stopped.records[i].ks);
+        CHECK(further.records[i].contrast == stopped.records[i].contrast);
+        CHECK(further.records[i].a_render == stopped.records[i].a_render);
+    }
+    // At this size a step's shading render is a row too, made first.
+    REQUIRE(further.records.size() >= stopped.records.size() + 2);
+    const FitRecord& shading = further.records[stopped.records.size()];
+    const FitRecord& next = further.records[stopped.records.size() + 1];
+    CHECK(shading.shading);
+    CHECK(shading.ks == stopped.ks);
+    CHECK_FALSE(next.shading);
+    CHECK(next.density_scale == stopped.density_scale);
+    CHECK(next.ks == stopped.ks);
+    CHECK(next.contrast == stopped.contrast);
+    CHECK_FALSE(further.stopped_at_density_ceiling);
+}
+
 TEST_CASE("contrast fit: a render at a known k_s and contrast fitted from (0 1) at half its width gives both back",
           "[fitter][contrast][fit-session]") {
     // The "photo" is the volume at a known k_s and contrast, flattened, at

@@ -189,6 +189,15 @@ TEST_CASE("the sharpening a fit asks for: by how far it raised the density scale
     fit.converged = false;
     CHECK(sharpening_for(fit).amount == 0.0);
     CHECK_THAT(sharpening_for(fit).why, Catch::Contains("did not converge"));
+    // Stopped at the ceiling (FitOptions::stop_at_density_ceiling): not
+    // converged, and the sharpening the ceiling asks for.
+    fit.density_scale = 160.0;
+    fit.stopped_at_density_ceiling = true;
+    CHECK(sharpening_for(fit).amount == kDefaultSharpen);
+    CHECK_THAT(sharpening_for(fit).why, Catch::Contains("ceiling"));
+    CHECK(at_density_ceiling(160.0, 160.0));
+    CHECK(at_density_ceiling(150.0, 160.0));
+    CHECK_FALSE(at_density_ceiling(140.0, 160.0));
 }
 
 TEST_CASE("a fit started from another's outcome: only under --fit contrast", "[fitter][fit-session]") {

@@ -33,9 +33,12 @@ struct PipelineOptions {
     // chooses a sharpening (sharpening_for: none, kDefaultSharpen or
     // kSharperStone, by how far the fit raised the density scale); the
     // volume sharpened so is fitted from that fit's outcome and kept where
-    // its fit converges (docs/design.md, "Sharpening"). The first volume's
-    // levels are then noise.sharpen's, 0 by default. false: noise.sharpen
-    // alone (`--sharpen β`).
+    // its fit converges (docs/design.md, "Sharpening"). Where the first fit
+    // raises the density scale to its ceiling, it stops there and the stone
+    // sharpened by kDefaultSharpen takes its search on (the unsharpened
+    // stone's goes on from there only where that one does not converge).
+    // The first volume's levels are then noise.sharpen's, 0 by default.
+    // false: noise.sharpen alone (`--sharpen β`).
     bool sharpen_from_fit = true;
     StructureMode structure = StructureMode::Photo;
     MatchMode match = MatchMode::Joint;
@@ -85,8 +88,26 @@ struct SharperStone {
     std::string why;                    // why that one (SharpeningChoice::why)
     bool tried = false;                 // the sharper stone was fitted (it asked for more than `first`)
     bool kept = false;                  // its fit converged: it is the outcome, its volume the one written
+    // The first fit stopped where the density scale reached its ceiling
+    // (FitOutcome::stopped_at_density_ceiling) and the sharper stone's fit
+    // took its search on from there.
+    bool from_ceiling = false;
     FitOutcome other;                   // the fit not kept: the first, or the sharper stone's
-    double seconds = 0.0;               // building the sharper volume and fitting it
+    // Where the sharper stone's fit from the ceiling did not converge, the
+    // first stone's fit went on from where it stopped and is the outcome;
+    // this is that first fit up to its stop.
+    std::optional<FitOutcome> stopped;
+    double seconds = 0.0;               // everything after the first fit: the sharper volume, its fit, a resumption
+    // Seconds from the first fit's start at which the sharper stone's fit
+    // and the first stone's resumed fit began (fit.csv's seconds run on).
+    double sharper_began = 0.0, resumed_began = 0.0;
+};
+
+// One fit of the pipeline's, in the order they ran: the first, the sharper
+// stone's, the first stone's resumption.
+struct FitLeg {
+    const FitOutcome* fit = nullptr;
+    double began = 0.0;                 // seconds from the first fit's start
 };
 
 struct PipelineResult {
@@ -107,6 +128,11 @@ struct PipelineResult {
 };
 
 PipelineResult run_pipeline(const PipelineOptions& options);
+
+// The fits `result` ran, in order (one unless a sharper stone was fitted).
+std::vector<FitLeg> fit_legs(const PipelineResult& result);
+// Their fitting renders, all counted.
+int fit_renders(const PipelineResult& result);
 
 // The folder a photo's results go to by default: "<stem>-jaderender".
 std::string default_out_dir(const std::string& photo);

@@ -96,6 +96,13 @@ struct FitOptions {
     // A start from another fit's outcome (FitStart above; --fit contrast
     // only).
     std::optional<FitStart> start;
+    // Stop where a step in density scale reaches its ceiling
+    // (at_density_ceiling), before any render there: the stone sharpened by
+    // kDefaultSharpen then takes the search on from that point (sharpening_for,
+    // app/pipeline.h), where before it fitted the unsharpened stone to the
+    // end first and started again from its outcome (docs/design.md,
+    // "Sharpening").
+    bool stop_at_density_ceiling = false;
     void validate() const;      // throws jade::Error naming the flag
 };
 
@@ -168,6 +175,11 @@ struct FitOutcome {
     std::vector<std::string> warnings;    // what a fit leaves short that is not a channel's failure
                                           // (a render that clips, a contrast the noise hid)
     bool converged = false;
+    // Stopped where a step in density scale reached its ceiling
+    // (FitOptions::stop_at_density_ceiling): not converged; ks and contrast
+    // are the point the search would have rendered next, at density_scale,
+    // the ceiling (start_from takes it on from there).
+    bool stopped_at_density_ceiling = false;
     // Per channel, --fit contrast searched the contrast (false where the
     // renders' noise hid S_material: FitSession::choose_spread_block).
     std::array<bool, 3> contrast_fitted{};
@@ -275,7 +287,7 @@ private:
     std::string hidden_spread_warning(int c, const QuietBlock& q, double g, const SpreadReading& r, int spp) const;
     void finish_contrast(const ContrastSearch& search);
     void contrast_step(ContrastSearch& search, int channel, double delta, double s);
-    void raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
+    bool raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
     void measure_density_exponent(ContrastSearch& search) const;
     void mark_clipped_channels();
     const FitRecord* final_record(int c) const;
@@ -345,12 +357,17 @@ private:
 // density at least, kSharperStone: the density can still rise to pay for
 // the spread a sharper stone moves into the bands transport blurs. At the
 // ceiling, kDefaultSharpen: the demo's blue, whose contrast had nothing
-// left, converged there and not at kSharperStone. None where the fit did
-// not converge.
+// left, converged there and not at kSharperStone; so also for a fit
+// stopped at the ceiling (FitOptions::stop_at_density_ceiling). None where
+// the fit did not converge.
 struct SharpeningChoice {
     double amount = 0.0;
     std::string why;
 };
 SharpeningChoice sharpening_for(const FitOutcome& fit);
+
+// Whether the density scale can rise no further: a step from it to its
+// ceiling would be smaller than the least worth taking.
+bool at_density_ceiling(double density_scale, double density_scale_max);
 
 }  // namespace jade
