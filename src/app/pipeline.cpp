@@ -107,15 +107,16 @@ FitOptions first_fit_options(const PipelineOptions& o, const MaterialVolume& vol
     return fit;
 }
 
-// A fit of `volume` from `from`'s outcome (FitStart), with half the
-// pipeline's budget of renders: the sharper stone's, or the first stone's
+// A fit of `volume` from `from`'s outcome (FitStart) within `max_renders`
+// (at least kMinContrastRenders): the sharper stone's, or the first stone's
 // resumed where it stopped at the ceiling.
 std::unique_ptr<FittedVolume> fit_from(const PipelineOptions& o, const Photo& photo, const PreparedScene& prep,
-                                       MaterialVolume volume, const FitOutcome& from, const char* label) {
+                                       MaterialVolume volume, const FitOutcome& from, int max_renders,
+                                       const char* label) {
     volume.optics.density_scale = from.density_scale;
     FitOptions fit = o.fit;
     fit.start = start_from(from);
-    fit.max_renders = std::max(kMinContrastRenders, o.fit.max_renders / 2);
+    fit.max_renders = std::max(kMinContrastRenders, max_renders);
     auto next = std::make_unique<FittedVolume>(std::move(volume), prep, photo, o.render.settings, fit);
     next->fit(o, label, fit.max_renders);
     return next;
@@ -126,8 +127,9 @@ std::unique_ptr<FittedVolume> fit_from(const PipelineOptions& o, const Photo& ph
 // fitted from that fit's outcome with half its budget of renders, and kept
 // where that fit converges. Where the first fit stopped at the density
 // scale's ceiling and the sharper stone's does not converge from there,
-// the first stone's fit goes on from its stop. Returns the volume and fit
-// kept.
+// the first stone's fit goes on from its stop with what was left of its
+// budget (as a first fit not asked to stop would have). Returns the volume
+// and fit kept.
 std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const Photo& photo,
                                                 const PreparedScene& prep, std::unique_ptr<FittedVolume> first,
                                                 PipelineResult& res) {
@@ -150,7 +152,8 @@ std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const 
     volume.structure = first->volume.structure;
     volume.cube = first->volume.cube;
     sharper.sharper_began = first->outcome.seconds + clock.seconds();
-    auto next = fit_from(o, photo, prep, std::move(volume), first->outcome, "fitting the sharper stone");
+    auto next = fit_from(o, photo, prep, std::move(volume), first->outcome, o.fit.max_renders / 2,
+                         "fitting the sharper stone");
     sharper.seconds = clock.seconds();
     sharper.kept = next->outcome.converged;
     if (!sharper.kept) {
@@ -158,7 +161,8 @@ std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const 
         if (!sharper.from_ceiling) return first;
         sharper.stopped = first->outcome;
         sharper.resumed_began = first->outcome.seconds + clock.seconds();
-        auto resumed = fit_from(o, photo, prep, first->volume, first->outcome, "fitting the first stone on");
+        auto resumed = fit_from(o, photo, prep, first->volume, first->outcome,
+                                o.fit.max_renders - first->outcome.renders, "fitting the first stone on");
         sharper.seconds = clock.seconds();
         return resumed;
     }

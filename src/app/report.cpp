@@ -339,9 +339,11 @@ void print_sharper_summary(const SharperStone& sh, const FitOutcome& kept) {
     const FitOutcome& sharper = sh.kept ? kept : sh.other;
     if (sh.from_ceiling) {
         const FitOutcome& first = sh.kept ? sh.other : *sh.stopped;
+        // The sharper stone's levels and fit, a resumption left out.
+        const double seconds = sh.kept ? sh.seconds : sh.resumed_began - first.seconds;
         std::printf("  sharpening %g (%s): the first fit (sharpening %g) stopped there after %d renders, and the "
                     "sharper stone's fit took its search on in %d renders, %.1f s: %s",
-                    sh.sharper, sh.why.c_str(), sh.first, first.renders, sharper.renders, sh.seconds,
+                    sh.sharper, sh.why.c_str(), sh.first, first.renders, sharper.renders, seconds,
                     sh.kept ? "converged, kept\n" : "NOT converged; ");
         if (!sh.kept)
             std::printf("the first stone's fit went on from its stop in %d renders, its volume kept\n", kept.renders);

@@ -787,6 +787,10 @@ TEST_CASE("pipeline: where the first fit reaches the density scale's ceiling, it
         CHECK((*later)["exposure"] == stopped["exposure"]);
     }
     CHECK(sharper["converged"] == false);
+    // The sharper stone's fit has half the budget of 24; the resumed one
+    // what the first had left, as a first fit not asked to stop would.
+    CHECK(sharper["renders"].get<int>() <= 12);
+    CHECK(resumed["renders"].get<int>() <= 24 - stopped["renders"].get<int>());
     CHECK(report["volume"]["sharpen"] == 0.0);
     CHECK(jade::read_material_vdb(dir.file("out/volume.vdb")).noise.sharpen == 0.0);
     // fit.csv: the three fits' rows in the order they ran, iterations and
