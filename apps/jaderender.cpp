@@ -669,7 +669,7 @@ void add_pipeline_flags(CLI::App& app, PipelineFlags& p) {
     jade::PipelineOptions& o = p.options;
     first = app.get_options().size();
     app.add_option("--fit", p.fit, "What the fit matches: 'contrast' (k_s and contrast per channel, and where "
-                                   "needed the density scale, for the photo's brightness A and spread S), 'bisect' (k_s for A: bracket, then bisect), "
+                                   "needed the density scale, for the photo's brightness A and spread S), 'bisect' (k_s for A: bracket, then narrow the bracket), "
                                    "'step' (k_s for A in the paper's 0.01 steps) or 'none'")
         ->capture_default_str();
     app.add_option("--contrast", p.contrast_start.text,

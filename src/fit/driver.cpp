@@ -46,12 +46,13 @@ bool FitDriver::done() const {
                        [](const Channel& ch) { return ch.state != ChannelState::Searching; });
 }
 
-void FitDriver::observe(const std::array<double, 3>& delta_a) {
+void FitDriver::observe(const std::array<double, 3>& delta_a, const std::array<bool, 3>& clipped) {
     for (int c = 0; c < 3; ++c)
-        if (channel_[c].state == ChannelState::Searching) observe_channel(c, delta_a[c]);
+        if (channel_[c].state == ChannelState::Searching) observe_channel(c, delta_a[c], clipped[c]);
 }
 
-void FitDriver::observe_bounds(const std::array<double, 3>& at_min, const std::array<double, 3>& at_max) {
+void FitDriver::observe_bounds(const std::array<double, 3>& at_min, const std::array<double, 3>& at_max,
+                               const std::array<bool, 3>& clipped_at_min, const std::array<bool, 3>& clipped_at_max) {
     for (int c = 0; c < 3; ++c) {
         Channel& ch = channel_[c];
         if (ch.state != ChannelState::Searching) continue;
@@ -67,20 +68,24 @@ void FitDriver::observe_bounds(const std::array<double, 3>& at_min, const std::a
         }
         if (at_min[c] > 0) {  // brighter than the photo at the smallest k_s
             k_[c] = limits_.k_min[c];
-            observe_channel(c, at_min[c]);  // reports it unreachable
+            observe_channel(c, at_min[c], clipped_at_min[c]);  // reports it unreachable
         } else if (at_max[c] < 0) {  // darker at the largest
             k_[c] = limits_.k_max;
-            observe_channel(c, at_max[c]);
+            observe_channel(c, at_max[c], clipped_at_max[c]);
         } else {
             ch.bracketed = true;
             ch.lo = limits_.k_min[c];
+            ch.d_lo = at_min[c];
+            ch.lo_clipped = clipped_at_min[c];
             ch.hi = limits_.k_max;
-            k_[c] = 0.5 * (ch.lo + ch.hi);
+            ch.d_hi = at_max[c];
+            ch.hi_clipped = clipped_at_max[c];
+            k_[c] = next_in_bracket(ch);
         }
     }
 }
 
-void FitDriver::observe_channel(int c, double delta) {
+void FitDriver::observe_channel(int c, double delta, bool clipped) {
     Channel& ch = channel_[c];
     const double k = k_[c];
     if (std::abs(delta) < best_abs_[c]) {
@@ -126,13 +131,17 @@ void FitDriver::observe_channel(int c, double delta) {
         return;
     }
 
-    // Bisect: first find a bracket, then halve it.
+    // Bisect: first find a bracket, then narrow it.
     if (!ch.bracketed && ch.have_prev && (ch.prev_delta > 0) != (delta > 0)) {
         ch.bracketed = true;
         ch.lo = delta < 0 ? k : ch.prev_k;
+        ch.d_lo = delta < 0 ? delta : ch.prev_delta;
+        ch.lo_clipped = delta < 0 ? clipped : ch.prev_clipped;
         ch.hi = delta < 0 ? ch.prev_k : k;
+        ch.d_hi = delta < 0 ? ch.prev_delta : delta;
+        ch.hi_clipped = delta < 0 ? ch.prev_clipped : clipped;
     } else if (ch.bracketed) {
-        (delta < 0 ? ch.lo : ch.hi) = k;
+        narrow(ch, k, delta, clipped);
     }
     if (ch.bracketed) {
         if (ch.hi - ch.lo < 1e-3) {
@@ -142,7 +151,7 @@ void FitDriver::observe_channel(int c, double delta) {
                         "bracket; the best k_s is kept (raise --fit-spp or lower --fit-error)";
             return;
         }
-        k_[c] = 0.5 * (ch.lo + ch.hi);
+        k_[c] = next_in_bracket(ch);
     } else {
         double step = ch.step;
         if (ch.have_prev && delta != ch.prev_delta) {
@@ -156,9 +165,32 @@ void FitDriver::observe_channel(int c, double delta) {
         ch.have_prev = true;
         ch.prev_k = k;
         ch.prev_delta = delta;
+        ch.prev_clipped = clipped;
         ch.step = 2 * step;
         k_[c] = std::clamp(k + dir * step, limits_.k_min[c], limits_.k_max);
     }
+}
+
+// k replaces the end on its side of the root; the end kept, if it was
+// kept the time before too, has its ΔA halved (Illinois).
+void FitDriver::narrow(Channel& ch, double k, double delta, bool clipped) {
+    const int kept = delta < 0 ? +1 : -1;
+    if (kept == ch.kept) (kept > 0 ? ch.d_hi : ch.d_lo) *= 0.5;
+    ch.kept = kept;
+    (delta < 0 ? ch.lo : ch.hi) = k;
+    (delta < 0 ? ch.d_lo : ch.d_hi) = delta;
+    (delta < 0 ? ch.lo_clipped : ch.hi_clipped) = clipped;
+}
+
+// Where the chord through the bracket's ends crosses ΔA = 0, held
+// kHeldIn of the bracket in from either end (the chord of a channel whose
+// ends differ by a few levels of noise could land on an end, where a render
+// teaches nothing); the middle where an end's ΔA is only a bound.
+double FitDriver::next_in_bracket(const Channel& ch) {
+    constexpr double kHeldIn = 0.02;
+    if (ch.lo_clipped || ch.hi_clipped) return 0.5 * (ch.lo + ch.hi);
+    const double t = ch.d_lo / (ch.d_lo - ch.d_hi);  // in (0, 1): d_lo < 0 < d_hi
+    return ch.lo + std::clamp(t, kHeldIn, 1.0 - kHeldIn) * (ch.hi - ch.lo);
 }
 
 }  // namespace jade

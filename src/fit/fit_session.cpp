@@ -81,6 +81,14 @@ namespace {
 // above which the channel counts as clipped.
 constexpr double kClippedShare = 0.5;
 
+// Per channel, whether most of a render's object pixels sit at level 0 or
+// 255: its A is then only a bound.
+std::array<bool, 3> clipped(const FitRecord& rec) {
+    std::array<bool, 3> out{};
+    for (int c = 0; c < 3; ++c) out[c] = std::max(rec.at_black[c], rec.at_white[c]) > kClippedShare;
+    return out;
+}
+
 int fitting_width(const CameraParams& camera, const FitOptions& options) {
     return options.width > 0 ? options.width : std::max(32, camera.width / 4);
 }
@@ -265,9 +273,10 @@ void FitSession::bracket(FitDriver& driver) {
     if (options_.exposure == 0.f)
         outcome_.exposure = float(exposure_in_reach(
             r_lo.film, r_hi.film, {photo_histogram_.mean(0), photo_histogram_.mean(1), photo_histogram_.mean(2)}));
-    const std::array<double, 3> d_lo = record(k_lo, g, r_lo.film).delta;
-    const std::array<double, 3> d_hi = record(k_hi, g, r_hi.film).delta;
-    if (bisects(options_.method)) driver.observe_bounds(d_lo, d_hi);
+    // Copies: the second row may move the first.
+    const FitRecord at_lo = record(k_lo, g, r_lo.film);
+    const FitRecord at_hi = record(k_hi, g, r_hi.film);
+    if (bisects(options_.method)) driver.observe_bounds(at_lo.delta, at_hi.delta, clipped(at_lo), clipped(at_hi));
 }
 
 FitOutcome FitSession::run(Progress* progress) {
@@ -318,7 +327,8 @@ void FitSession::fit_from_bounds() {
         const std::array<double, 3> ks = driver.k();
         const RenderResult r = fitting_render(ks, g);
         if (outcome_.exposure == 0.f) outcome_.exposure = matching_exposure(r.film, photo_);
-        driver.observe(record(ks, g, r.film).delta);
+        const FitRecord& rec = record(ks, g, r.film);
+        driver.observe(rec.delta, clipped(rec));
     }
     if (!fitting && outcome_.exposure == 0.f) {
         // Nothing fitted: still match the exposure, from one fitting render.
@@ -601,23 +611,40 @@ double FitSession::k_min_at(int c, double contrast) const {
     return k_min_for(optics_, lowest_level_[c], c, contrast);
 }
 
-// dA/dk_s per channel near the fitted k_s, from the k_s-only renders: the
-// secant through the two renders nearest it (the bracket's last ends), or
-// through the bounds when those are too close to tell.
+// dA/dk_s per channel at the fitted k_s, from the k_s-only renders: the
+// slope at k of the parabola through the render there and the nearest
+// renders below and above it (a centred difference where they are equally
+// far, as halving the bracket leaves them). The false position's bracket
+// often keeps one far end (the demo's red: k_s 1.13 between 1.72 and
+// k_min −0.48), and the secant between the ends, which this was, read
+// 44 levels a unit where A rises about 27 (the parabola: 31), so that the
+// contrast steps moved k_s little more than half as far as A needed. Where
+// a side has no render: the secant through the nearest render, else the
+// bounds'.
 std::array<double, 3> FitSession::brightness_slopes() const {
     std::array<double, 3> slope{};
     const auto& recs = outcome_.records;
     for (int c = 0; c < 3; ++c) {
         const double k = outcome_.ks[c];
+        const FitRecord* at = nullptr;
         const FitRecord* below = nullptr;
         const FitRecord* above = nullptr;
         for (const FitRecord& r : recs) {
+            if (std::abs(r.ks[c] - k) <= 1e-6 && !at) at = &r;
             if (r.ks[c] < k - 1e-6 && (!below || r.ks[c] > below->ks[c])) below = &r;
             if (r.ks[c] > k + 1e-6 && (!above || r.ks[c] < above->ks[c])) above = &r;
         }
-        if ((!below || !above) && recs.size() >= 2) below = &recs.front(), above = &recs[1];
-        const double dk = below && above ? above->ks[c] - below->ks[c] : 0.0;
-        slope[c] = dk > 0.0 ? (above->a_render[c] - below->a_render[c]) / dk : 0.0;
+        if (at && below && above) {
+            const double h_lo = k - below->ks[c], h_hi = above->ks[c] - k;
+            slope[c] = (h_lo * h_lo * (above->a_render[c] - at->a_render[c]) +
+                        h_hi * h_hi * (at->a_render[c] - below->a_render[c])) /
+                       (h_lo * h_hi * (h_lo + h_hi));
+        } else if (at && (below || above)) {
+            const FitRecord* other = below ? below : above;
+            slope[c] = (other->a_render[c] - at->a_render[c]) / (other->ks[c] - k);
+        } else if (below && above) {
+            slope[c] = (above->a_render[c] - below->a_render[c]) / (above->ks[c] - below->ks[c]);
+        }
         if (!(slope[c] > 0.0) && recs.size() >= 2 && recs[1].ks[c] > recs[0].ks[c])
             slope[c] = (recs[1].a_render[c] - recs[0].a_render[c]) / (recs[1].ks[c] - recs[0].ks[c]);
         if (!(slope[c] > 0.0)) slope[c] = 1.0;  // A does not grow with k_s here: step one k_s per level

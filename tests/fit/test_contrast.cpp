@@ -579,8 +579,8 @@ TEST_CASE("contrast fit: where the contrast would clip many voxels, the density 
 TEST_CASE("contrast fit: stopped where the density scale reaches its ceiling, the point it would render next kept",
           "[fitter][contrast][fit-session]") {
     // The "photo" is the volume at 32× its density scale and contrast 4,
-    // beyond the fit's ceiling of 8×: the density scale rises to that
-    // ceiling (at 16× and 3.5 the fit matched at 6.4×). Asked to stop
+    // beyond the fit's ceiling of 8×: the density scale rises to within a
+    // step of that ceiling (at 16× and 3.5 the fit matched at 6.4×). Asked to stop
     // there (the pipeline's first fit, which the sharper stone's takes on
     // from there), the fit makes no render at the ceiling, says where it
     // would have rendered next, and asks for kDefaultSharpen; a fit not
@@ -609,7 +609,9 @@ TEST_CASE("contrast fit: stopped where the density scale reaches its ceiling, th
                                     << stopped.renders << " renders; " << stopped.reason[0]);
     REQUIRE(stopped.stopped_at_density_ceiling);
     CHECK_FALSE(stopped.converged);
-    CHECK(stopped.density_scale == stopped.density_scale_max);
+    // At the ceiling: no step of at least kMinDensityStep is left below it
+    // (the last raise may end short of it: 80 → 149.1 of 160).
+    CHECK(stopped.density_scale <= stopped.density_scale_max);
     CHECK(stopped.density_scale_max == 8.0 * start);
     CHECK(at_density_ceiling(stopped.density_scale, stopped.density_scale_max));
     for (const FitRecord& r : stopped.records) CHECK(r.density_scale < stopped.density_scale);

@@ -69,6 +69,20 @@ TEST_CASE("fit session: a render at a known k_s, fitted from 0, gives that k_s b
     REQUIRE(out.converged);
     CHECK(out.records.size() <= 12);
     for (int c = 0; c < 3; ++c) CHECK(std::abs(out.ks[c] - truth[c]) < 0.12);
+
+    // dA/dk_s at the fitted k_s (the brightness check's and the contrast
+    // steps' first slope) against a centred difference of two renders
+    // 0.05 either side, made here: within 15 %, though the search's
+    // renders lie up to a unit and more away on one side.
+    std::array<double, 3> lo = out.ks, hi = out.ks;
+    for (int c = 0; c < 3; ++c) lo[c] -= 0.05, hi[c] += 0.05;
+    const std::array<double, 3> a_lo = display_statistics(session.render_at(lo, {1.0, 1.0, 1.0}, 256).film, exposure).a;
+    const std::array<double, 3> a_hi = display_statistics(session.render_at(hi, {1.0, 1.0, 1.0}, 256).film, exposure).a;
+    for (int c = 0; c < 3; ++c) {
+        const double local = (a_hi[c] - a_lo[c]) / 0.1;
+        INFO("channel " << c << ": the fit's slope " << out.brightness_slope[c] << ", centred " << local);
+        CHECK(out.brightness_slope[c] == Approx(local).epsilon(0.15));
+    }
 }
 
 TEST_CASE("fit session: fitted at a quarter of the size, the brightness check brings A at full size to the photo's",

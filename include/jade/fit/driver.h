@@ -15,7 +15,8 @@
 namespace jade {
 
 // step     the paper's k_s driver (Algorithm 2), A only
-// bisect   k_s for A by bracketing and bisection
+// bisect   k_s for A by bracketing the root and narrowing the bracket
+//          (false position, Illinois; the name is the flag's)
 // contrast (default) bisect, then k_s and the contrast together for A and
 //          S_material (fit/fit_session.h; docs/design.md, "Contrast")
 // none     nothing fitted
@@ -41,24 +42,33 @@ struct FitLimits {
 // independently; a channel that has converged or proved unreachable keeps its k_s.
 //
 //   step    the paper's driver: k -= Δk · sign(ΔA) after every render.
-//   bisect  (default) brackets the root, then halves the bracket. Given
-//           renders at both bounds (observe_bounds), they are the bracket.
-//           Otherwise it steps outward from the start, each step at least
-//           double the last and at least 1.5x a secant estimate of the
-//           distance to the root, until ΔA changes sign.
+//   bisect  brackets the root, then narrows the bracket by false position:
+//           the next k_s is where the chord through its ends crosses ΔA = 0,
+//           and an end kept twice in a row has its ΔA halved (the Illinois
+//           rule), so that the chord does not stall against one end where A
+//           curves (it saturates in k_s). Where an end's render clips (most
+//           of its pixels at level 0 or 255: its ΔA is only a bound, and A is
+//           flat in k_s there) the bracket is halved instead: a chord through
+//           such an end lands beside it again and again (a near-white
+//           photo). Given renders at both bounds (observe_bounds), they are
+//           the bracket. Otherwise it steps outward from the start, each step
+//           at least double the last and at least 1.5x a secant estimate of
+//           the distance to the root, until ΔA changes sign.
 class FitDriver {
 public:
     FitDriver(FitMethod method, const std::array<double, 3>& k_start, const FitLimits& limits);
 
     // The k_s to render next.
     const std::array<double, 3>& k() const { return k_; }
-    // ΔA measured at k(); moves each searching channel on.
-    void observe(const std::array<double, 3>& delta_a);
+    // ΔA measured at k(); moves each searching channel on. clipped[c]: the
+    // render clips in channel c, so its ΔA is only a bound.
+    void observe(const std::array<double, 3>& delta_a, const std::array<bool, 3>& clipped = {});
     // Bisect only: ΔA measured at k_min and at k_max (two renders). A channel
-    // whose signs differ is bracketed at once and bisected from the middle; a
+    // whose signs differ is bracketed at once and narrowed from there; a
     // channel with the same sign at both ends is unreachable.
-    void observe_bounds(const std::array<double, 3>& delta_at_min,
-                        const std::array<double, 3>& delta_at_max);
+    void observe_bounds(const std::array<double, 3>& delta_at_min, const std::array<double, 3>& delta_at_max,
+                        const std::array<bool, 3>& clipped_at_min = {},
+                        const std::array<bool, 3>& clipped_at_max = {});
     bool done() const;
     ChannelState state(int c) const { return channel_[c].state; }
     // Why a channel stopped (empty while searching).
@@ -72,11 +82,17 @@ private:
         std::string reason;
         bool have_prev = false;
         double prev_k = 0, prev_delta = 0;
+        bool prev_clipped = false;
         double step = 0;
         bool bracketed = false;
-        double lo = 0, hi = 0;  // ΔA(lo) < 0 < ΔA(hi)
+        double lo = 0, hi = 0;      // ΔA(lo) < 0 < ΔA(hi)
+        double d_lo = 0, d_hi = 0;  // ΔA at the ends, the one kept twice halved
+        bool lo_clipped = false, hi_clipped = false;  // the end's render clips
+        int kept = 0;               // the end kept by the last narrowing: -1 lo, +1 hi
     };
-    void observe_channel(int c, double delta);
+    void observe_channel(int c, double delta, bool clipped);
+    static void narrow(Channel& ch, double k, double delta, bool clipped);
+    static double next_in_bracket(const Channel& ch);
 
     FitMethod method_;
     FitLimits limits_;
