@@ -1,6 +1,6 @@
 // The k_s drivers on known brightness functions (no rendering): the paper's
-// stepping takes its number of steps, bisection converges in O(log) renders,
-// both stop when the target cannot be reached. And the display-space
+// stepping takes its number of steps, the bracketing search converges in a
+// few renders (false position; halving from an end that clips), both stop when the target cannot be reached. And the display-space
 // statistics of a film against hand-computed histograms.
 
 #include "jade/fit/appearance.h"
@@ -131,7 +131,7 @@ TEST_CASE("bisect from renders at both bounds: bracketed channels narrow, the ot
     d.observe_bounds(lo, hi);
     CHECK(d.state(1) == ChannelState::Unreachable);  // darker than the photo at k_max
     CHECK(d.state(2) == ChannelState::Unreachable);  // brighter at k_min
-    // The chord's root: -0.5 + 4.5 · 101.9 / (101.9 + 28.5).
+    // The chord's root: -0.5 + 4.5 · 101.898 / (101.898 + 28.535).
     CHECK(d.k()[0] == Approx(-0.5 + 4.5 * (150.0 - sat(-0.5)) / (sat(4.0) - sat(-0.5))));
     CHECK(d.k()[0] == Approx(3.0155).margin(1e-4));
     int renders = 2;
