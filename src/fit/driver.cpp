@@ -131,7 +131,12 @@ void FitDriver::observe_channel(int c, double delta, bool clipped) {
         return;
     }
 
-    // Bisect: first find a bracket, then narrow it.
+    search_step(c, k, delta, dir, clipped);
+}
+
+// Bisect: first find a bracket, stepping outward, then narrow it.
+void FitDriver::search_step(int c, double k, double delta, double dir, bool clipped) {
+    Channel& ch = channel_[c];
     if (!ch.bracketed && ch.have_prev && (ch.prev_delta > 0) != (delta > 0)) {
         ch.bracketed = true;
         ch.lo = delta < 0 ? k : ch.prev_k;

@@ -91,6 +91,7 @@ private:
         int kept = 0;               // the end kept by the last narrowing: -1 lo, +1 hi
     };
     void observe_channel(int c, double delta, bool clipped);
+    void search_step(int c, double k, double delta, double dir, bool clipped);
     static void narrow(Channel& ch, double k, double delta, bool clipped);
     static double next_in_bracket(const Channel& ch);
 
