@@ -21,9 +21,13 @@ bool BroydenJacobian2::update(const std::array<double, 2>& dx, const std::array<
                               double min_change) {
     const std::array<double, 2> w{m[0][0] * m[0][0], m[1][1] * m[1][1]};
     const double norm2 = w[0] * dx[0] * dx[0] + w[1] * dx[1] * dx[1];
-    if (!(norm2 >= min_change * min_change)) return false;
+    if (!(norm2 > 0.0)) return false;
+    bool changed = false;
     for (int i = 0; i < 2; ++i) {
-        const double miss = df[i] - (m[i][0] * dx[0] + m[i][1] * dx[1]);
+        const double expected = m[i][0] * dx[0] + m[i][1] * dx[1];
+        if (!(std::max(std::abs(expected), std::abs(df[i])) >= min_change)) continue;
+        changed = true;
+        const double miss = df[i] - expected;
         const double old = m[i][i];
         for (int j = 0; j < 2; ++j) m[i][j] += miss * w[j] * dx[j] / norm2;
         m[i][i] = std::clamp(m[i][i], old / kMaxDiagonalChange, old * kMaxDiagonalChange);
@@ -35,7 +39,7 @@ bool BroydenJacobian2::update(const std::array<double, 2>& dx, const std::array<
         m[0][1] *= shrink;
         m[1][0] *= shrink;
     }
-    return true;
+    return changed;
 }
 
 }  // namespace jade

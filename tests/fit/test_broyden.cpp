@@ -42,10 +42,13 @@ TEST_CASE("broyden: the update meets the secant condition and leaves J alone acr
 TEST_CASE("broyden: a step within the noise, or one that would flip a lever's sign, is not learned from",
           "[fitter][broyden]") {
     BroydenJacobian2 j = diagonal(2.0, 5.0);
-    // Expected change sqrt((2·0.1)² + (5·0.1)²) = 0.54 levels, under 1.
-    CHECK_FALSE(j.update({0.1, 0.1}, {-3.0, 4.0}, 1.0));
+    // Expected changes 2·0.1 = 0.2 and 5·0.1 = 0.5 levels, observed 0.6 and
+    // −0.4: all under 1.
+    CHECK_FALSE(j.update({0.1, 0.1}, {0.6, -0.4}, 1.0));
     CHECK(j.m[0][0] == 2.0);
     CHECK(j.m[1][1] == 5.0);
+    CHECK(j.m[0][1] == 0.0);
+    CHECK(j.m[1][0] == 0.0);
     // A change against the lever's own direction: the diagonal is kept
     // positive, at a quarter of what it was at least.
     REQUIRE(j.update({1.0, 0.0}, {-2.0, 0.0}, 1.0));
@@ -60,6 +63,28 @@ TEST_CASE("broyden: a step within the noise, or one that would flip a lever's si
     CHECK(k.m[1][1] == Approx(4.0));
     CHECK(k.m[0][1] == Approx(std::sqrt(12.0)));
     CHECK(k.det() == Approx(4.0));
+}
+
+TEST_CASE("broyden: each row learns only from a step that moved its own residual beyond the noise",
+          "[fitter][broyden]") {
+    // Marble01 on the vase, red: dA/dk_s 44 from the k_s search, dS/dg 4.39
+    // from S = 4.39 at g = 1. The step to g = 1.43 lowered k_s by 0.077 (A
+    // expected to move 3.4 levels, observed 3.2) and S read 1.55 lower where
+    // 1.9 higher was expected: both within the 2 levels of S's noise.
+    BroydenJacobian2 j = diagonal(44.0, 4.39);
+    REQUIRE(j.update({-0.0765, 0.434}, {-3.2, -1.55}, 2.0));
+    // The A row met the secant condition ...
+    CHECK(j.m[0][0] * -0.0765 + j.m[0][1] * 0.434 == Approx(-3.2));
+    // ... and the S row is as it was: no dS/dk_s made of noise (learning it
+    // gave 34 and dS/dg 2.5, and the next step asked for g = 3.0).
+    CHECK(j.m[1][0] == 0.0);
+    CHECK(j.m[1][1] == 4.39);
+    // An observed change beyond the noise is learned from even where J
+    // expected none: the first step's g moved A by 10 levels through a
+    // cross term J did not have yet.
+    BroydenJacobian2 k = diagonal(44.0, 4.39);
+    REQUIRE(k.update({0.0, 3.0}, {10.0, 12.0}, 2.0));
+    CHECK(k.m[0][1] * 3.0 == Approx(10.0));
 }
 
 TEST_CASE("broyden: Newton steps with the updated Jacobian solve a coupled system that the diagonal alone does not",

@@ -7,8 +7,16 @@
 // (ΔA, ΔS) = 0 in (k_s, g) with one per channel (docs/design.md, "Contrast").
 //
 // The residuals come from Monte Carlo renders, so the update is guarded:
-//   - a step whose expected effect is within `min_change` of nothing (in
-//     units of the residuals) leaves J as it is: its change is mostly noise;
+//   - each row learns only from a step that moved its residual, expected
+//     (J·dx) or observed, by at least `min_change` (in units of the
+//     residuals): a smaller change is mostly noise. Per row, not for the
+//     step as a whole: a step that moves A by several levels through k_s
+//     and S by less than the noise through g teaches the A row and would
+//     otherwise teach the S row a slope in k_s made of S's noise (Marble01
+//     on the vase: S read 4.4 levels at g = 1 and 2.8 at g = 1.43, about
+//     3.1·g give or take 0.6 from one render seed to the next; the S row
+//     learned dS/dk_s = 34 and dS/dg = 2.5 from that, the next step asked
+//     for g = 3.0 and S overshot the photo's 6.3 to 9.3);
 //   - each row's own lever (the diagonal) keeps its sign and changes by at
 //     most a factor of 4 per update;
 //   - the cross terms are shrunk where they would bring J near singular
@@ -30,7 +38,7 @@ struct BroydenJacobian2 {
     // After a step dx changed the residuals by df. The update's norm weighs
     // each unknown by its own diagonal (a unit in either is one unit of its
     // own residual), so the unknowns' units do not matter. Returns whether J
-    // changed.
+    // changed (either row).
     bool update(const std::array<double, 2>& dx, const std::array<double, 2>& df, double min_change);
 };
 
