@@ -100,16 +100,20 @@ bool sharpens_after(const PipelineOptions& o) {
 // scale reaches its ceiling, where sharpening_for would choose that stone
 // anyway: its fit takes the search on from there, and the steps the first
 // stone would have spent converging at the ceiling are not made (the demo:
-// 6 renders fewer; docs/design.md, "Sharpening").
+// 6 renders fewer). Where it is sharpened less than kSharperStone, the fit
+// stops also where the density scale's first rise meets the stone's need
+// short of the ceiling, for that stone likewise (Onyx010 on the cow: 10
+// renders fewer; docs/design.md, "Sharpening").
 FitOptions first_fit_options(const PipelineOptions& o, const MaterialVolume& volume) {
     FitOptions fit = o.fit;
     fit.stop_at_density_ceiling = sharpens_after(o) && volume.noise.sharpen < kDefaultSharpen;
+    fit.stop_at_first_rise = sharpens_after(o) && volume.noise.sharpen < kSharperStone;
     return fit;
 }
 
 // A fit of `volume` from `from`'s outcome (FitStart) within `max_renders`
 // (at least kMinContrastRenders): the sharper stone's, or the first stone's
-// resumed where it stopped at the ceiling.
+// resumed where it stopped for the sharper one.
 std::unique_ptr<FittedVolume> fit_from(const PipelineOptions& o, const Photo& photo, const PreparedScene& prep,
                                        MaterialVolume volume, const FitOutcome& from, int max_renders,
                                        const char* label) {
@@ -125,8 +129,9 @@ std::unique_ptr<FittedVolume> fit_from(const PipelineOptions& o, const Photo& ph
 // The sharper stone (PipelineOptions::sharpen_from_fit): the sharpening
 // `first`'s fit asks for (sharpening_for), where it is more than its own,
 // fitted from that fit's outcome with half its budget of renders, and kept
-// where that fit converges. Where the first fit stopped at the density
-// scale's ceiling and the sharper stone's does not converge from there,
+// where that fit converges. Where the first fit stopped for it (at the
+// density scale's ceiling or first rise) and the sharper stone's does not
+// converge from there,
 // the first stone's fit goes on from its stop with what was left of its
 // budget (as a first fit not asked to stop would have). Returns the volume
 // and fit kept.
@@ -140,7 +145,7 @@ std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const 
     sharper.sharper = choice.amount;
     sharper.why = choice.why;
     sharper.tried = choice.amount > sharper.first;
-    sharper.from_ceiling = first->outcome.stopped_at_density_ceiling;
+    sharper.from_stop = stopped_for_sharper_stone(first->outcome);
     if (!sharper.tried) return first;
     const Stopwatch clock;
     NoiseParams noise = first->volume.noise;
@@ -158,7 +163,7 @@ std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const 
     sharper.kept = next->outcome.converged;
     if (!sharper.kept) {
         sharper.other = next->outcome;
-        if (!sharper.from_ceiling) return first;
+        if (!sharper.from_stop) return first;
         sharper.stopped = first->outcome;
         sharper.resumed_began = first->outcome.seconds + clock.seconds();
         auto resumed = fit_from(o, photo, prep, first->volume, first->outcome,

@@ -219,6 +219,7 @@ nlohmann::json fit_json(const PipelineOptions& o, const FitOutcome& fit) {
         {"contrast", fit.contrast}, {"density_scale_start", fit.density_scale_start},
         {"density_scale", fit.density_scale}, {"density_scale_max", fit.density_scale_max},
         {"converged", fit.converged}, {"stopped_at_density_ceiling", fit.stopped_at_density_ceiling},
+        {"stopped_at_first_rise", fit.stopped_at_first_rise},
         {"channel_status", status}};
     if (o.fit.method == FitMethod::Contrast)
         j["S"] = {{"tolerance", o.fit.s_tolerance}, {"photo_at_material_scale", fit.s_photo},
@@ -237,7 +238,7 @@ nlohmann::json sharper_json(const PipelineOptions& o, const SharperStone& sh) {
                         {"kept", sh.kept}};
     if (!sh.tried) return j;
     j["seconds"] = sh.seconds;
-    j["from_ceiling"] = sh.from_ceiling;
+    j["from_stop"] = sh.from_stop;
     j[sh.kept ? "first_fit" : "sharper_fit"] = fit_json(o, sh.other);
     if (sh.stopped) j["first_fit_stopped"] = fit_json(o, *sh.stopped);
     return j;
@@ -337,7 +338,7 @@ void print_sharper_summary(const SharperStone& sh, const FitOutcome& kept) {
         return;
     }
     const FitOutcome& sharper = sh.kept ? kept : sh.other;
-    if (sh.from_ceiling) {
+    if (sh.from_stop) {
         const FitOutcome& first = sh.kept ? sh.other : *sh.stopped;
         // The sharper stone's levels and fit, a resumption left out.
         const double seconds = sh.kept ? sh.seconds : sh.resumed_began - first.seconds;

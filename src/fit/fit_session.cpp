@@ -707,6 +707,9 @@ struct FitSession::ContrastSearch {
     // measures α.
     std::array<double, 3> g_last{}, s_last{}, delta_last{}, g_at_raise{}, s_at_raise{}, delta_at_raise{};
     double density_at_raise = 0.0;
+    // Whether the last step in density scale was held at kMaxDensityStep,
+    // short of the factor the stone's spread asked for.
+    bool rise_capped = false;
     double alpha = kDensityExponent;
     // S_material's block (0 until the first step chose it), the photo's S
     // there, and per channel whether the steps' noise lets S be read at all.
@@ -718,6 +721,7 @@ struct FitSession::ContrastSearch {
     std::vector<std::string> hidden_warnings;
     // Stopped at the density scale's ceiling (FitOptions::stop_at_density_ceiling).
     bool stopped = false;
+    bool stopped_at_first_rise = false;
 };
 
 // One step of --fit contrast at (k_s, g): the volume and its mean medium
@@ -818,12 +822,17 @@ void FitSession::fit_contrast(const std::array<double, 3>& brightness_slope) {
         // A step in density scale needs two more steps to be judged; it
         // changes every channel's S, so not where one channel's S is hidden.
         const bool every_spread_seen = st.spread_seen == std::array<bool, 3>{true, true, true};
+        const bool first_rise = !(st.density_at_raise > 0.0);
         const bool raised = every_spread_seen && options_.fit_density &&
                             fitting_renders() + 2 * step_cost() <= options_.max_renders &&
                             raise_density_scale(st, st.s_photo);
-        if (raised && options_.stop_at_density_ceiling &&
-            at_density_ceiling(density_scale_, outcome_.density_scale_max)) {
+        if (!raised) continue;
+        if (options_.stop_at_density_ceiling && at_density_ceiling(density_scale_, outcome_.density_scale_max)) {
             st.stopped = true;
+            break;
+        }
+        if (options_.stop_at_first_rise && first_rise && !st.rise_capped) {
+            st.stopped = st.stopped_at_first_rise = true;
             break;
         }
     }
@@ -941,16 +950,23 @@ void FitSession::finish_contrast(const ContrastSearch& st) {
     for (int c = 0; c < 3; ++c) outcome_.brightness_slope[c] = st.jacobian[c].m[0][0];
     if (st.stopped) {
         // Where the search goes on (start_from): the point it would render
-        // next, at the ceiling.
-        outcome_.stopped_at_density_ceiling = true;
+        // next, at the new density scale.
+        outcome_.stopped_at_density_ceiling = !st.stopped_at_first_rise;
+        outcome_.stopped_at_first_rise = st.stopped_at_first_rise;
         outcome_.converged = false;
         outcome_.ks = st.k;
         outcome_.contrast = st.g;
-        char why[200];
-        std::snprintf(why, sizeof why,
-                      "stopped where the density scale reached its ceiling (%.4g), for the sharper stone's fit to "
-                      "take the search on",
-                      density_scale_);
+        char why[240];
+        if (st.stopped_at_first_rise)
+            std::snprintf(why, sizeof why,
+                          "stopped where the density scale's first rise (to %.4g) met the stone's need short of its "
+                          "ceiling, for the sharper stone's fit to take the search on",
+                          density_scale_);
+        else
+            std::snprintf(why, sizeof why,
+                          "stopped where the density scale reached its ceiling (%.4g), for the sharper stone's fit to "
+                          "take the search on",
+                          density_scale_);
         for (int c = 0; c < 3; ++c) {
             outcome_.state[c] = ChannelState::Searching;
             outcome_.reason[c] = std::string(channel_name(c)) + ": " + why;
@@ -1040,8 +1056,10 @@ bool FitSession::raise_density_scale(ContrastSearch& st, const std::array<double
             need = std::max(need, s_photo[c] / st.s_last[c] * std::min(1.0, st.g_last[c] / kContrastCeiling));
     const double room = outcome_.density_scale_max / density_scale_;
     measure_density_exponent(st);
-    const double gain = std::min({std::pow(need, 1.0 / st.alpha), kMaxDensityStep, room});
+    const double wanted = std::pow(need, 1.0 / st.alpha);
+    const double gain = std::min({wanted, kMaxDensityStep, room});
     if (!(gain >= kMinDensityStep)) return false;
+    st.rise_capped = wanted > kMaxDensityStep;
     st.g_at_raise = st.g_last;
     st.s_at_raise = st.s_last;
     st.delta_at_raise = st.delta_last;
@@ -1097,8 +1115,14 @@ bool at_density_ceiling(double density_scale, double density_scale_max) {
     return density_scale * kMinDensityStep > density_scale_max;
 }
 
+bool stopped_for_sharper_stone(const FitOutcome& fit) {
+    return fit.stopped_at_density_ceiling || fit.stopped_at_first_rise;
+}
+
 SharpeningChoice sharpening_for(const FitOutcome& fit) {
     if (fit.stopped_at_density_ceiling) return {kDefaultSharpen, "the density scale rose to its ceiling"};
+    if (fit.stopped_at_first_rise)
+        return {kSharperStone, "the density scale's first rise met the stone's need, short of its ceiling"};
     if (!fit.converged) return {0.0, "the fit did not converge"};
     if (!(fit.density_scale > fit.density_scale_start))
         return {0.0, "the density scale stayed at the volume's own, where light spreads over many voxels"};

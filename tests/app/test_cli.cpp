@@ -674,12 +674,14 @@ TEST_CASE("pipeline: a render of a known k_s, fitted from 0, gives that k_s back
     }
 }
 
-TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling, a sharper stone is fitted too",
+TEST_CASE("pipeline: where the first fit's first rise in density scale meets the stone's need, a sharper stone "
+          "takes its search on",
           "[cli][fit]") {
     // Onyx010 on the cow at this size: the first fit, of the unsharpened
-    // stone, raises the density scale from 20 and converges below its
-    // ceiling of 160, so the stone sharpened by kSharperStone is fitted from
-    // its outcome (docs/design.md, "Sharpening").
+    // stone, raises the density scale from 20 once, by less than a step's
+    // most and short of its ceiling of 160, and stops there; the stone
+    // sharpened by kSharperStone takes the search on from the point it
+    // would have rendered next (docs/design.md, "Sharpening").
     TempDir dir;
     const std::string base = "--photo " + std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx010_1K_color.jpg" +
                              " --mesh " + kCow +
@@ -692,26 +694,36 @@ TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling
     const nlohmann::json& sharpening = report["sharpening"];
     CHECK(sharpening["first"] == 0.0);
     CHECK(sharpening["chosen"] == jade::kSharperStone);
-    CHECK_THAT(sharpening["why"].get<std::string>(), Catch::Contains("short of its ceiling"));
+    CHECK_THAT(sharpening["why"].get<std::string>(), Catch::Contains("first rise"));
     REQUIRE(sharpening["tried"] == true);
+    REQUIRE(sharpening["from_stop"] == true);
     const bool kept = sharpening["kept"];
-    // Kept exactly where its fit converged; the fit not kept is reported whole.
+    // Kept exactly where its fit converged; the fit not kept is reported
+    // whole, and where the sharper one was not kept the first stone's fit
+    // went on from its stop.
     const nlohmann::json& sharper_fit = kept ? report["fit"] : sharpening["sharper_fit"];
-    const nlohmann::json& first_fit = kept ? sharpening["first_fit"] : report["fit"];
+    REQUIRE(sharpening.contains(kept ? "first_fit" : "first_fit_stopped"));
+    const nlohmann::json& stopped = kept ? sharpening["first_fit"] : sharpening["first_fit_stopped"];
     CHECK(sharper_fit["converged"] == kept);
-    CHECK(first_fit["converged"] == true);
-    CHECK(first_fit["density_scale"] > first_fit["density_scale_start"]);
-    // It starts where the first ended, under the same ceiling and exposure.
-    CHECK(sharper_fit["density_scale_start"] == first_fit["density_scale"]);
-    CHECK(sharper_fit["ks_start"] == first_fit["ks"]);
-    CHECK(sharper_fit["contrast_start"] == first_fit["contrast"]);
-    CHECK(sharper_fit["exposure"] == first_fit["exposure"]);
+    CHECK(stopped["stopped_at_first_rise"] == true);
+    CHECK(stopped["stopped_at_density_ceiling"] == false);
+    CHECK(stopped["converged"] == false);
+    const double start = stopped["density_scale_start"], rose_to = stopped["density_scale"];
+    CHECK(start == 20.0);
+    CHECK(rose_to > 1.1 * start);
+    CHECK(rose_to <= 4.0 * start);
+    CHECK_FALSE(jade::at_density_ceiling(rose_to, stopped["density_scale_max"]));
+    // It starts where the first stopped, under the same ceiling and exposure.
+    CHECK(sharper_fit["density_scale_start"] == rose_to);
+    CHECK(sharper_fit["ks_start"] == stopped["ks"]);
+    CHECK(sharper_fit["contrast_start"] == stopped["contrast"]);
+    CHECK(sharper_fit["exposure"] == stopped["exposure"]);
     CHECK(sharper_fit["exposure_matched"] == true);
     const double kept_amount = kept ? jade::kSharperStone : 0.0;
     CHECK(report["volume"]["sharpen"] == kept_amount);
     CHECK(jade::read_material_vdb(dir.file("auto/volume.vdb")).noise.sharpen == kept_amount);
     // fit.csv: the first fit's rows, then the sharper stone's, which renders
-    // nothing at the k_s bounds (its first row is at the first's outcome).
+    // nothing at the k_s bounds (its first row is at the stopped point).
     const auto rows = csv_rows(dir.file("auto/fit.csv"));
     REQUIRE(rows.size() > 2);
     CHECK_THAT(rows[0], Catch::EndsWith(",sharpen"));
@@ -723,16 +735,37 @@ TEST_CASE("pipeline: where the fit raised the density scale short of its ceiling
         CHECK(std::stoi(rows[i]) == int(i - 1));                // iterations run on
     }
     CHECK(sharper_rows >= 1);
-    CHECK_THAT(r.out, Catch::Contains("sharpening 1 (the density scale rose, short of its ceiling)"));
+    CHECK_THAT(r.out, Catch::Contains("sharpening 1 (the density scale's first rise met the stone's need, short of "
+                                      "its ceiling): the first fit (sharpening 0) stopped there"));
 
-    // An amount given: that sharpening alone. At 0, the first fit above.
+    // An amount given: that sharpening alone, and no stop. At 0, the first
+    // fit's rows up to its stop, the same renders (all but the seconds),
+    // and then its steps at the new density scale.
     const Result given = run(dir, base + dir.file("given") + " --sharpen 0");
     INFO(given.out << given.err);
     REQUIRE(given.code == 0);
     const nlohmann::json plain = nlohmann::json::parse(slurp(dir.file("given/report.json")));
     CHECK_FALSE(plain.contains("sharpening"));
     CHECK(plain["volume"]["sharpen"] == 0.0);
-    CHECK(plain["fit"] == first_fit);
+    CHECK(plain["fit"]["stopped_at_first_rise"] == false);
+    CHECK(plain["fit"]["exposure"] == stopped["exposure"]);
+    const auto plain_rows = csv_rows(dir.file("given/fit.csv"));
+    REQUIRE(plain_rows.size() > first_rows + 1);
+    const auto without_seconds = [](const std::string& row) {
+        const std::size_t a = row.find(','), b = row.find(',', a + 1);
+        return row.substr(0, a) + row.substr(b);
+    };
+    for (std::size_t i = 1; i <= first_rows; ++i) CHECK(without_seconds(plain_rows[i]) == without_seconds(rows[i]));
+    // Its next render is at the density scale the first fit stopped at.
+    const auto field = [](const std::string& row, const std::string& header, const std::string& name) {
+        std::stringstream h(header), v(row);
+        std::string key, value;
+        while (std::getline(h, key, ',') && std::getline(v, value, ','))
+            if (key == name) return std::stod(value);
+        return -1.0;
+    };
+    CHECK(field(plain_rows[first_rows + 1], plain_rows[0], "density_scale") == Approx(rose_to).epsilon(1e-5));
+    CHECK(field(plain_rows[first_rows], plain_rows[0], "density_scale") == start);
     CHECK_THAT(given.out, !Catch::Contains("sharpening"));
 }
 
@@ -764,7 +797,7 @@ TEST_CASE("pipeline: where the first fit reaches the density scale's ceiling, it
     CHECK(sharpening["chosen"] == jade::kDefaultSharpen);
     CHECK_THAT(sharpening["why"].get<std::string>(), Catch::Contains("ceiling"));
     REQUIRE(sharpening["tried"] == true);
-    REQUIRE(sharpening["from_ceiling"] == true);
+    REQUIRE(sharpening["from_stop"] == true);
     REQUIRE(sharpening["kept"] == false);
     REQUIRE(sharpening.contains("first_fit_stopped"));
     const nlohmann::json& stopped = sharpening["first_fit_stopped"];

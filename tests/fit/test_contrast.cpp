@@ -120,6 +120,33 @@ Photo flat_photo(const test::FitTestScene& t, const MaterialVolume& volume, cons
     return flat_render(maker.render_at(k, g, spp).film, maker.render_at(k, {0, 0, 0}, spp).film, make.exposure);
 }
 
+
+// A fit from k_s 0 and contrast 1 (64 spp, 32 renders) of the test
+// scene's volume toward a "photo" of it at `denser` times its density
+// scale and contrast 4 (k_s 0.5, 0.3, 0.1): the stops for the sharper
+// stone (FitOptions::stop_at_density_ceiling, stop_at_first_rise).
+struct DenserPhotoFit {
+    test::FitTestScene t{test::ramp_photo(40, 190, 20), 32};
+    RenderSettings settings;
+    double start = t.volume.optics.density_scale;
+    FitOptions options;
+    Photo photo;
+    explicit DenserPhotoFit(double denser) {
+        MaterialVolume dense = t.volume;
+        dense.optics.density_scale = denser * start;
+        options.width = t.camera.width;
+        options.exposure = 4.f;
+        photo = flat_photo(t, dense, options, {0.5, 0.3, 0.1}, {4.0, 4.0, 4.0}, 512);
+        options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
+        options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
+        options.spp = 64;
+        options.max_renders = 32;
+    }
+    FitOutcome run(const FitOptions& o) const {
+        return FitSession(t.volume, t.scene, t.camera, settings, photo, o).run();
+    }
+};
+
 }  // namespace
 
 TEST_CASE("material spread: the shading divides out, the material's spread stays", "[fitter][contrast]") {
@@ -585,24 +612,11 @@ TEST_CASE("contrast fit: stopped where the density scale reaches its ceiling, th
     // from there), the fit makes no render at the ceiling, says where it
     // would have rendered next, and asks for kDefaultSharpen; a fit not
     // asked to stop goes the same way to that point and renders it next.
-    test::FitTestScene t(test::ramp_photo(40, 190, 20), 32);
-    RenderSettings settings;
-    const double start = t.volume.optics.density_scale;
-    MaterialVolume dense = t.volume;
-    dense.optics.density_scale = 32.0 * start;
-    FitOptions make;
-    make.width = t.camera.width;
-    make.exposure = 4.f;
-    const Photo photo = flat_photo(t, dense, make, {0.5, 0.3, 0.1}, {4.0, 4.0, 4.0}, 512);
-
-    FitOptions options = make;
-    options.ks_start = std::array<double, 3>{0.0, 0.0, 0.0};
-    options.contrast_start = std::array<double, 3>{1.0, 1.0, 1.0};
-    options.spp = 64;
-    options.max_renders = 32;
+    const DenserPhotoFit fit(32.0);
+    const double start = fit.start;
+    FitOptions options = fit.options;
     options.stop_at_density_ceiling = true;
-    FitSession session(t.volume, t.scene, t.camera, settings, photo, options);
-    const FitOutcome stopped = session.run();
+    const FitOutcome stopped = fit.run(options);
     std::ostringstream path;
     for (const FitRecord& r : stopped.records) path << " " << r.density_scale;
     INFO("density scales rendered:" << path.str() << "; stopped at " << stopped.density_scale << " in "
@@ -631,8 +645,7 @@ TEST_CASE("contrast fit: stopped where the density scale reaches its ceiling, th
     // then a step at the ceiling, at the point the stopped fit named.
     options.stop_at_density_ceiling = false;
     options.max_renders = stopped.renders + 4;
-    FitSession on(t.volume, t.scene, t.camera, settings, photo, options);
-    const FitOutcome further = on.run();
+    const FitOutcome further = fit.run(options);
     REQUIRE(further.records.size() > stopped.records.size());
     for (std::size_t i = 0; i < stopped.records.size(); ++i) {
         CHECK(further.records[i].ks == stopped.records[i].ks);
@@ -650,6 +663,59 @@ TEST_CASE("contrast fit: stopped where the density scale reaches its ceiling, th
     CHECK(next.ks == stopped.ks);
     CHECK(next.contrast == stopped.contrast);
     CHECK_FALSE(further.stopped_at_density_ceiling);
+}
+
+TEST_CASE("contrast fit: stopped where the density scale's first rise meets the stone's need short of its ceiling",
+          "[fitter][contrast][fit-session]") {
+    // The "photo" is the volume at 1.5 times its density scale and contrast 4:
+    // at its own density scale the contrast would pass the ceiling of 4,
+    // and the rise the fit asks for is less than a step's most (4×). Asked
+    // to stop there (the pipeline's first fit, which the stone sharpened by
+    // kSharperStone takes on), the fit renders nothing at the new density
+    // scale and names the point it would render next; a fit not asked to
+    // stop goes the same way and renders that point next.
+    const DenserPhotoFit fit(1.5);
+    const double start = fit.start;
+    FitOptions options = fit.options;
+    options.stop_at_density_ceiling = options.stop_at_first_rise = true;
+    const FitOutcome stopped = fit.run(options);
+    std::ostringstream path;
+    for (const FitRecord& r : stopped.records) path << " " << r.density_scale;
+    INFO("density scales rendered:" << path.str() << "; stopped at " << stopped.density_scale << " in "
+                                    << stopped.renders << " renders; " << stopped.reason[0]);
+    REQUIRE(stopped.stopped_at_first_rise);
+    CHECK_FALSE(stopped.stopped_at_density_ceiling);
+    CHECK(stopped_for_sharper_stone(stopped));
+    CHECK_FALSE(stopped.converged);
+    // One rise, by less than a step's most, short of the ceiling; nothing
+    // rendered after it.
+    CHECK(stopped.density_scale > 1.1 * start);
+    CHECK(stopped.density_scale < 4.0 * start);
+    CHECK_FALSE(at_density_ceiling(stopped.density_scale, stopped.density_scale_max));
+    for (const FitRecord& r : stopped.records) CHECK(r.density_scale == start);
+    for (int c = 0; c < 3; ++c) {
+        CHECK(stopped.state[c] == ChannelState::Searching);
+        CHECK_THAT(stopped.reason[c], Catch::Contains("first rise"));
+    }
+    CHECK(sharpening_for(stopped).amount == kSharperStone);
+    CHECK_THAT(sharpening_for(stopped).why, Catch::Contains("first rise"));
+
+    // Not asked to stop at the first rise: the same renders, then a step at
+    // the new density scale, at the point the stopped fit named.
+    options.stop_at_first_rise = false;
+    options.max_renders = stopped.renders + 4;
+    const FitOutcome further = fit.run(options);
+    REQUIRE(further.records.size() >= stopped.records.size() + 2);
+    for (std::size_t i = 0; i < stopped.records.size(); ++i) {
+        CHECK(further.records[i].ks == stopped.records[i].ks);
+        CHECK(further.records[i].contrast == stopped.records[i].contrast);
+    }
+    const FitRecord& next = further.records[stopped.records.size() + 1];
+    CHECK_FALSE(next.shading);
+    CHECK(next.density_scale == stopped.density_scale);
+    CHECK(next.ks == stopped.ks);
+    CHECK(next.contrast == stopped.contrast);
+    CHECK_FALSE(further.stopped_at_first_rise);
 }
 
 TEST_CASE("contrast fit: a render at a known k_s and contrast fitted from (0 1) at half its width gives both back",

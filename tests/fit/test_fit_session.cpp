@@ -211,6 +211,17 @@ TEST_CASE("the sharpening a fit asks for: by how far it raised the density scale
     fit.stopped_at_density_ceiling = true;
     CHECK(sharpening_for(fit).amount == kDefaultSharpen);
     CHECK_THAT(sharpening_for(fit).why, Catch::Contains("ceiling"));
+    CHECK(stopped_for_sharper_stone(fit));
+    // Stopped at its first rise short of the ceiling
+    // (FitOptions::stop_at_first_rise): the sharper stone.
+    fit.stopped_at_density_ceiling = false;
+    fit.stopped_at_first_rise = true;
+    fit.density_scale = 58.6;
+    CHECK(sharpening_for(fit).amount == kSharperStone);
+    CHECK_THAT(sharpening_for(fit).why, Catch::Contains("first rise"));
+    CHECK(stopped_for_sharper_stone(fit));
+    fit.stopped_at_first_rise = false;
+    CHECK_FALSE(stopped_for_sharper_stone(fit));
     CHECK(at_density_ceiling(160.0, 160.0));
     CHECK(at_density_ceiling(150.0, 160.0));
     CHECK_FALSE(at_density_ceiling(140.0, 160.0));

@@ -35,8 +35,10 @@ struct PipelineOptions {
     // volume sharpened so is fitted from that fit's outcome and kept where
     // its fit converges (docs/design.md, "Sharpening"). Where the first fit
     // raises the density scale to its ceiling, it stops there and the stone
-    // sharpened by kDefaultSharpen takes its search on (the unsharpened
-    // stone's goes on from there only where that one does not converge).
+    // sharpened by kDefaultSharpen takes its search on; where its first rise
+    // meets the stone's need short of the ceiling, likewise with
+    // kSharperStone (the unsharpened stone's fit goes on from its stop only
+    // where the sharper one's does not converge).
     // The first volume's levels are then noise.sharpen's, 0 by default.
     // false: noise.sharpen alone (`--sharpen β`).
     bool sharpen_from_fit = true;
@@ -88,12 +90,12 @@ struct SharperStone {
     std::string why;                    // why that one (SharpeningChoice::why)
     bool tried = false;                 // the sharper stone was fitted (it asked for more than `first`)
     bool kept = false;                  // its fit converged: it is the outcome, its volume the one written
-    // The first fit stopped where the density scale reached its ceiling
-    // (FitOutcome::stopped_at_density_ceiling) and the sharper stone's fit
-    // took its search on from there.
-    bool from_ceiling = false;
+    // The first fit stopped for the sharper stone (at the density scale's
+    // ceiling or first rise: stopped_for_sharper_stone) and the sharper
+    // stone's fit took its search on from there.
+    bool from_stop = false;
     FitOutcome other;                   // the fit not kept: the first, or the sharper stone's
-    // Where the sharper stone's fit from the ceiling did not converge, the
+    // Where the sharper stone's fit from the stop did not converge, the
     // first stone's fit went on from where it stopped and is the outcome;
     // this is that first fit up to its stop.
     std::optional<FitOutcome> stopped;

@@ -103,6 +103,13 @@ struct FitOptions {
     // end first and started again from its outcome (docs/design.md,
     // "Sharpening").
     bool stop_at_density_ceiling = false;
+    // Stop also where the search's first step in density scale rises by
+    // the whole factor the stone's spread asks for (not capped at a step's
+    // most), short of the ceiling: the density then stays short of it (the
+    // cow and Onyx010's vase converged without another rise), where
+    // sharpening_for chooses kSharperStone, whose fit takes the search on
+    // from that point.
+    bool stop_at_first_rise = false;
     void validate() const;      // throws jade::Error naming the flag
 };
 
@@ -180,6 +187,9 @@ struct FitOutcome {
     // are the point the search would have rendered next, at density_scale,
     // the ceiling (start_from takes it on from there).
     bool stopped_at_density_ceiling = false;
+    // Stopped where the first step in density scale met the stone's need
+    // short of the ceiling (FitOptions::stop_at_first_rise), likewise.
+    bool stopped_at_first_rise = false;
     // Per channel, --fit contrast searched the contrast (false where the
     // renders' noise hid S_material: FitSession::choose_spread_block).
     std::array<bool, 3> contrast_fitted{};
@@ -358,13 +368,18 @@ private:
 // the spread a sharper stone moves into the bands transport blurs. At the
 // ceiling, kDefaultSharpen: the demo's blue, whose contrast had nothing
 // left, converged there and not at kSharperStone; so also for a fit
-// stopped at the ceiling (FitOptions::stop_at_density_ceiling). None where
-// the fit did not converge.
+// stopped at the ceiling (FitOptions::stop_at_density_ceiling), and
+// kSharperStone for one stopped at its first rise short of it
+// (FitOptions::stop_at_first_rise). None where the fit did not converge.
 struct SharpeningChoice {
     double amount = 0.0;
     std::string why;
 };
 SharpeningChoice sharpening_for(const FitOutcome& fit);
+
+// Whether the fit stopped for a sharper stone's fit to take its search on
+// (at the density scale's ceiling, or at its first rise).
+bool stopped_for_sharper_stone(const FitOutcome& fit);
 
 // Whether the density scale can rise no further: a step from it to its
 // ceiling would be smaller than the least worth taking.
