@@ -29,8 +29,9 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
                              "S_photo_scaled", "S_material", "S_material_noise", "A_final_size"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",density_scale,structure,shading,from_final_size,sharpen\n";
-    char buf[64];
+    s += ",density_scale,structure,orientation_photo,orientation_render,strength_photo,strength_render,shading,"
+         "from_final_size,sharpen\n";
+    char buf[160];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
         s += buf;
@@ -41,8 +42,9 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d,%d,%.6g\n", r.density_scale, r.structure, r.shading ? 1 : 0,
-                      r.from_final_size ? 1 : 0, r.sharpen);
+        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.4g,%.4g,%.4g,%.4g,%d,%d,%.6g\n", r.density_scale, r.structure,
+                      r.orientation_photo, r.orientation_render, r.strength_photo, r.strength_render,
+                      r.shading ? 1 : 0, r.from_final_size ? 1 : 0, r.sharpen);
         s += buf;
     }
     return s;

@@ -257,6 +257,10 @@ FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<
         rec.at_white[c] = st.histogram.proportion(c, 255);
     }
     rec.structure = look.structure;
+    rec.orientation_photo = look.photo.orientation;
+    rec.orientation_render = look.render.orientation;
+    rec.strength_photo = look.photo.strength;
+    rec.strength_render = look.render.strength;
     outcome_.records.push_back(rec);
     return outcome_.records.back();
 }

@@ -234,6 +234,15 @@ std::vector<std::string> csv_rows(const std::string& path) {
     return rows;
 }
 
+// The value in a CSV row of the column named in its header; -1 where none.
+double csv_field(const std::string& row, const std::string& header, const std::string& name) {
+    std::stringstream h(header), v(row);
+    std::string key, value;
+    while (std::getline(h, key, ',') && std::getline(v, value, ','))
+        if (key == name) return std::stod(value);
+    return -1.0;
+}
+
 }  // namespace
 
 TEST_CASE("render: a homogeneous medium writes EXR, PNG and its convergence CSV", "[cli][render]") {
@@ -757,15 +766,8 @@ TEST_CASE("pipeline: where the first fit's first rise in density scale meets the
     };
     for (std::size_t i = 1; i <= first_rows; ++i) CHECK(without_seconds(plain_rows[i]) == without_seconds(rows[i]));
     // Its next render is at the density scale the first fit stopped at.
-    const auto field = [](const std::string& row, const std::string& header, const std::string& name) {
-        std::stringstream h(header), v(row);
-        std::string key, value;
-        while (std::getline(h, key, ',') && std::getline(v, value, ','))
-            if (key == name) return std::stod(value);
-        return -1.0;
-    };
-    CHECK(field(plain_rows[first_rows + 1], plain_rows[0], "density_scale") == Approx(rose_to).epsilon(1e-5));
-    CHECK(field(plain_rows[first_rows], plain_rows[0], "density_scale") == start);
+    CHECK(csv_field(plain_rows[first_rows + 1], plain_rows[0], "density_scale") == Approx(rose_to).epsilon(1e-5));
+    CHECK(csv_field(plain_rows[first_rows], plain_rows[0], "density_scale") == start);
     CHECK_THAT(given.out, !Catch::Contains("sharpening"));
 }
 
@@ -841,6 +843,22 @@ TEST_CASE("pipeline: where the first fit reaches the density scale's ceiling, it
         if (sharpen_column.empty() || sharpen_column.back() != amount) sharpen_column.push_back(amount);
     }
     CHECK(sharpen_column == std::vector<std::string>{"0", "0.5", "0"});
+    // Every row has the photo's dominant orientation and its strength
+    // beside the render's: the stripes run up the photo (90 degrees from
+    // its horizontal), nearly every frequency along them; the render's
+    // are those of a measure in [0, 180) and [0, 1].
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        CHECK(csv_field(rows[i], rows[0], "orientation_photo") == Approx(90.0).margin(2.0));
+        CHECK(csv_field(rows[i], rows[0], "strength_photo") > 0.8);
+        const double angle = csv_field(rows[i], rows[0], "orientation_render");
+        const double strength = csv_field(rows[i], rows[0], "strength_render");
+        CHECK(angle >= 0.0);
+        CHECK(angle < 180.0);
+        CHECK(strength >= 0.0);
+        CHECK(strength <= 1.0);
+    }
+    CHECK(csv_field(rows.back(), rows[0], "orientation_photo") ==
+          Approx(report["appearance"]["photo_orientation"].get<double>()).epsilon(1e-3));
     const int renders = stopped["renders"].get<int>() + sharper["renders"].get<int>() + resumed["renders"].get<int>();
     CHECK_THAT(r.out, Catch::Contains("fit (contrast): " + std::to_string(renders) + " renders"));
     char density[64];

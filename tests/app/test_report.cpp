@@ -49,3 +49,23 @@ TEST_CASE("fit.csv: A at the final size beside the fitting render's own A, -1 wh
     CHECK(value(b, "A_final_size_b") == -1.0);
     CHECK(value(a, "iteration") == 3.0);
 }
+
+TEST_CASE("fit.csv: the dominant orientation and its strength of the photo and of the render, on every row",
+          "[report]") {
+    FitRecord r;
+    r.orientation_photo = 5.9;
+    r.orientation_render = 135.3;
+    r.strength_photo = 0.18;
+    r.strength_render = 0.28;
+    std::stringstream csv(fit_csv({r}));
+    std::string header, row;
+    std::getline(csv, header);
+    std::getline(csv, row);
+    const std::vector<std::string> names = fields(header), values = fields(row);
+    REQUIRE(values.size() == names.size());
+    std::vector<double> found;
+    for (const char* name : {"orientation_photo", "orientation_render", "strength_photo", "strength_render"})
+        for (std::size_t i = 0; i < names.size(); ++i)
+            if (names[i] == name) found.push_back(std::stod(values[i]));
+    CHECK(found == std::vector<double>{5.9, 135.3, 0.18, 0.28});
+}

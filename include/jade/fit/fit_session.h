@@ -145,6 +145,10 @@ struct FitRecord {
     // a_final_size); -1 where none was made.
     std::array<double, 3> noise_clipped{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
+    // The dominant orientation (degrees from the image's horizontal, in
+    // [0, 180)) and its strength (0 isotropic to 1), of the photo and of the
+    // render's object pixels (TextureSpectrum::orientation, strength).
+    double orientation_photo = 0.0, orientation_render = 0.0, strength_photo = 0.0, strength_render = 0.0;
     // Shares of the render's object pixels at display level 0 and 255 (a
     // render that clips has a brightness that is only a bound).
     std::array<double, 3> at_black{}, at_white{};
