@@ -131,10 +131,9 @@ std::unique_ptr<FittedVolume> fit_from(const PipelineOptions& o, const Photo& ph
 // fitted from that fit's outcome with half its budget of renders, and kept
 // where that fit converges. Where the first fit stopped for it (at the
 // density scale's ceiling or first rise) and the sharper stone's does not
-// converge from there,
-// the first stone's fit goes on from its stop with what was left of its
-// budget (as a first fit not asked to stop would have). Returns the volume
-// and fit kept.
+// converge from there, the first stone's fit goes on from its stop with
+// what was left of its budget (as a first fit not asked to stop would
+// have). Returns the volume and fit kept.
 std::unique_ptr<FittedVolume> fit_sharper_stone(const PipelineOptions& o, const Photo& photo,
                                                 const PreparedScene& prep, std::unique_ptr<FittedVolume> first,
                                                 PipelineResult& res) {

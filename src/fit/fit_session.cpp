@@ -723,7 +723,8 @@ struct FitSession::ContrastSearch {
     // The warnings for the channels whose S the first step could not read,
     // given once the count of samples is settled (raise_spread_spp).
     std::vector<std::string> hidden_warnings;
-    // Stopped at the density scale's ceiling (FitOptions::stop_at_density_ceiling).
+    // Stopped for the sharper stone (FitOptions::stop_at_density_ceiling,
+    // stop_at_first_rise), and whether at the first rise.
     bool stopped = false;
     bool stopped_at_first_rise = false;
 };

@@ -105,10 +105,10 @@ struct FitOptions {
     bool stop_at_density_ceiling = false;
     // Stop also where the search's first step in density scale rises by
     // the whole factor the stone's spread asks for (not capped at a step's
-    // most), short of the ceiling: the density then stays short of it (the
-    // cow and Onyx010's vase converged without another rise), where
-    // sharpening_for chooses kSharperStone, whose fit takes the search on
-    // from that point.
+    // most), short of the ceiling: the density then stays short of it
+    // (unsharpened, the cow and Onyx010's vase converged there without
+    // another rise), where sharpening_for chooses kSharperStone, whose fit
+    // takes the search on from that point.
     bool stop_at_first_rise = false;
     void validate() const;      // throws jade::Error naming the flag
 };
