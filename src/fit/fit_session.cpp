@@ -107,7 +107,7 @@ int box_factor(const PinholeCamera& final_camera, const PinholeCamera& fitting) 
 FitSession::FitSession(const MaterialVolume& volume, const Scene& scene, const CameraParams& camera,
                        const RenderSettings& settings, const Photo& photo, const FitOptions& options)
     : volume_(volume), scene_(scene), photo_(photo), options_(options), lowest_level_(lowest_levels(volume)),
-      optics_(volume.optics),
+      level_histograms_(level_histograms(volume.levels)), optics_(volume.optics),
       limits_(limits_for(volume.optics, lowest_level_,
                          options.start ? options.start->contrast : options.contrast_start.value_or(volume.optics.contrast),
                          options.k_max)),
@@ -682,6 +682,9 @@ constexpr double kDensityExponentMin = 0.3, kDensityExponentMax = 1.5;
 constexpr double kMaxDensityStep = 4.0;
 // A smaller step is not worth forgetting the search for.
 constexpr double kMinDensityStep = 1.1;
+// The least d ln S / d ln g the contrast steps start from (spread_elasticity):
+// a bound on a slope that would otherwise be nearly 0, not a measured one.
+constexpr double kMinSpreadElasticity = 0.1;
 
 }  // namespace
 
@@ -1023,11 +1026,14 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
         jac.update({st.k[c] - st.k_prev[c], g - st.g_prev[c]},
                    {residual[0] - st.residual_prev[c][0], residual[1] - st.residual_prev[c][1]}, kJacobianMinChange);
     else if (!(jac.m[1][1] > 0.0))
-        // S ∝ g, so dS/dg = S/g, except where S is the rounding of a flat
+        // S grows as the contrasted levels' spread does: in proportion to g
+        // while no voxel clips (dS/dg = S/g), less as the contrast clips
+        // them (spread_elasticity), except where S is the rounding of a flat
         // material (under kSpreadScatterFloor's level): a slope of 10⁻⁷
         // there sent g to a quarter at every step on a one-colour photo,
         // whose contrast moves nothing.
-        jac.m[1][1] = s * s > kSpreadScatterFloor && g > 0.0 ? s / g : std::max(s_photo, 1.0);
+        jac.m[1][1] = s * s > kSpreadScatterFloor && g > 0.0 ? s / g * spread_elasticity(c, g)
+                                                             : std::max(s_photo, 1.0);
     st.k_prev[c] = st.k[c];
     st.g_prev[c] = g;
     st.residual_prev[c] = residual;
@@ -1039,6 +1045,17 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
     const double k_next = st.k[c] - (delta + jac.m[0][1] * (g_next - g)) / jac.m[0][0];
     st.k[c] = std::clamp(k_next, k_min_at(c, g_next), limits_.k_max);
     st.g[c] = g_next;
+}
+
+// d ln S / d ln g at contrast g in channel c, as the volume's contrasted
+// levels give it (contrasted_spread_elasticity): 1 while no voxel clips.
+// Where most voxels clip it tends to 0, and a slope near 0 would send g to
+// its cap or to a quarter on any reading's noise; kMinSpreadElasticity
+// bounds it.
+double FitSession::spread_elasticity(int c, double g) const {
+    OpticalParams p = optics_;
+    p.contrast[c] = g;
+    return std::max(kMinSpreadElasticity, contrasted_spread_elasticity(level_histograms_, c, p));
 }
 
 // Where a channel's next contrast is above kContrastCeiling, the density

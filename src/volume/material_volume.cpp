@@ -82,6 +82,38 @@ std::array<double, 3> mean_levels(const std::vector<Rgb8>& levels) {
     return mean;
 }
 
+LevelHistograms level_histograms(const std::vector<Rgb8>& levels) {
+    LevelHistograms h{};
+    for (const Rgb8& lv : levels)
+        for (int c = 0; c < 3; ++c) h[c][lv[c]] += 1.0;
+    return h;
+}
+
+double contrasted_spread(const LevelHistograms& histograms, int channel, const OpticalParams& p) {
+    double n = 0.0, sum = 0.0, sum2 = 0.0;
+    for (int level = 0; level < 256; ++level) {
+        const double w = histograms[channel][level], v = contrasted_level(level, channel, p);
+        n += w;
+        sum += w * v;
+        sum2 += w * v * v;
+    }
+    if (!(n > 0.0)) return 0.0;
+    const double mean = sum / n;
+    return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+}
+
+double contrasted_spread_elasticity(const LevelHistograms& histograms, int channel, const OpticalParams& p) {
+    // A central difference over ±1 % of g: the spread is piecewise smooth
+    // in g (a level starts to clip at one g), and 1 % spans few such kinks.
+    constexpr double kStep = 1.01;
+    OpticalParams lo = p, hi = p;
+    lo.contrast[channel] = p.contrast[channel] / kStep;
+    hi.contrast[channel] = p.contrast[channel] * kStep;
+    const double a = contrasted_spread(histograms, channel, lo), b = contrasted_spread(histograms, channel, hi);
+    if (!(a > 0.0 && b > 0.0)) return 1.0;
+    return std::log(b / a) / (2.0 * std::log(kStep));
+}
+
 CoefficientTable::CoefficientTable(const OpticalParams& p, double cube_side) {
     const double to_world = p.density_scale / cube_side;
     for (int c = 0; c < 3; ++c)

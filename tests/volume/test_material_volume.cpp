@@ -28,6 +28,37 @@ TEST_CASE("coefficients follow §5.1 exactly for known v_c", "[material_volume]"
     CHECK(paper_sigma_a(64, 0, p) == Approx(0.75 * 2.0 * 0.3));
 }
 
+TEST_CASE("the contrasted levels' spread: g times the levels' own until they clip, then the clipped uniform's",
+          "[material_volume]") {
+    // Every level once: v uniform on [0, 1) in steps of 1/256, its mean
+    // 255/512. Unclipped, the spread is g times the uniform's 1/√12. Past
+    // g = 1 the share 1/g stays uniform on [0, 1] and the rest sits at 0 and
+    // 1 half each: variance 1/4 − 1/(6g), and d ln σ / d ln g =
+    // (1/(6g)) / (2 (1/4 − 1/(6g))), a quarter at g = 2 (to the grid of
+    // 256 levels).
+    std::vector<Rgb8> levels;
+    for (int l = 0; l < 256; ++l) levels.push_back({std::uint8_t(l), std::uint8_t(l), std::uint8_t(l)});
+    const LevelHistograms h = level_histograms(levels);
+    OpticalParams p;
+    p.mean_level = mean_levels(levels);
+    const double own = std::sqrt((256.0 * 256.0 - 1.0) / 12.0) / 256.0;  // the discrete uniform's
+    for (double g : {0.25, 0.5, 0.9}) {
+        p.contrast = {g, g, g};
+        CHECK(contrasted_spread(h, 0, p) == Approx(g * own).epsilon(1e-9));
+        CHECK(contrasted_spread_elasticity(h, 1, p) == Approx(1.0).epsilon(1e-6));
+    }
+    for (double g : {2.0, 4.0, 8.0}) {
+        p.contrast = {g, g, g};
+        const double var = 0.25 - 1.0 / (6.0 * g);
+        CHECK(contrasted_spread(h, 0, p) == Approx(std::sqrt(var)).epsilon(0.01));
+        CHECK(contrasted_spread_elasticity(h, 2, p) == Approx(1.0 / (6.0 * g) / (2.0 * var)).epsilon(0.05));
+    }
+    // A volume of one level spreads nothing at any contrast.
+    const LevelHistograms flat = level_histograms({{90, 90, 90}, {90, 90, 90}});
+    p.contrast = {4.0, 4.0, 4.0};
+    CHECK(contrasted_spread(flat, 0, p) == 0.0);
+}
+
 TEST_CASE("the contrast stretches the levels about their mean and clips them to [0, 1]", "[material_volume]") {
     OpticalParams p;
     p.mean_level = {0.5, 0.25, 0.5};

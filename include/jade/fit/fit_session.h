@@ -303,6 +303,7 @@ private:
     void contrast_step(ContrastSearch& search, int channel, double delta, double s);
     bool raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
     void measure_density_exponent(ContrastSearch& search) const;
+    double spread_elasticity(int channel, double g) const;
     void mark_clipped_channels();
     const FitRecord* final_record(int c) const;
     std::array<double, 3> brightness_slopes() const;
@@ -316,6 +317,7 @@ private:
     const Photo& photo_;
     FitOptions options_;
     std::array<int, 3> lowest_level_;   // per channel, over the volume's voxels
+    LevelHistograms level_histograms_;  // the volume's voxels per level and channel
     // The volume's optical parameters as given: the fit varies k_s, the
     // contrast and the density scale from them (the volume's levels are
     // read, its parameters may be changed once the session ran).

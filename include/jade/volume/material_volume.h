@@ -97,6 +97,18 @@ double paper_sigma_a(int level, int channel, const OpticalParams& p);
 // The mean v_c per channel over the volume's voxels (OpticalParams::mean_level).
 std::array<double, 3> mean_levels(const std::vector<Rgb8>& levels);
 
+// How many voxels hold each level, per channel.
+using LevelHistograms = std::array<std::array<double, 256>, 3>;
+LevelHistograms level_histograms(const std::vector<Rgb8>& levels);
+// The standard deviation of channel c's contrasted levels v'_c over voxels
+// counted by `histograms`, at p's contrast and mean level: g times the
+// levels' own spread while no voxel clips, less as the contrast pushes
+// more of them to 0 or 1.
+double contrasted_spread(const LevelHistograms& histograms, int channel, const OpticalParams& p);
+// d ln(contrasted_spread) / d ln g at p's contrast for channel c: 1 while
+// no voxel clips, falling toward 0 as the clipped share grows.
+double contrasted_spread_elasticity(const LevelHistograms& histograms, int channel, const OpticalParams& p);
+
 // World-unit coefficients for every level and channel: a 256-entry table per
 // channel, so turning levels into coefficients is a lookup.
 struct CoefficientTable {
