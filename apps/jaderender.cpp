@@ -102,8 +102,10 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     cmd.add_option("--octaves", o.noise.octaves, "fBm octaves n (0 = floor(log2(s)), the paper's)")
         ->capture_default_str();
     cmd.add_option("--structure", o.structure,
-                   "Noise structure: 'photo' (frequency, k, stretch and angle estimated from the photo's "
-                   "spectrum) or 'fbm' (the paper's, or as given by --frequency, --k, --stretch, --angle)")
+                   "Structure: 'photo' (a noise whose frequency, k, stretch, angle, bands and folds are "
+                   "estimated from the photo's spectrum), 'exemplar' (the photo itself swept through the cube's "
+                   "depth: every slice facing the camera is the photo, moved as --exemplar-wander says) or 'fbm' "
+                   "(the paper's, or as given by --frequency, --k, --stretch, --angle)")
         ->capture_default_str();
     cmd.add_option("--k", o.noise.k,
                    "fBm amplitude ratio k, 0 < k < 1; with --layers, the layers' profile's (--structure fbm)")
@@ -155,6 +157,10 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
         ->capture_default_str();
     cmd.add_option("--sharpen-radius", o.noise.sharpen_radius,
                    "With --sharpen: the blur's standard deviation, voxels")
+        ->capture_default_str();
+    cmd.add_option("--exemplar-wander", o.noise.exemplar_wander,
+                   "With --structure exemplar: how far the photo's offset wanders through the cube's depth, "
+                   "cube sides (0 = the photo drawn straight through)")
         ->capture_default_str();
     cmd.add_option("--seed", o.noise.seed, "Noise seed")->capture_default_str();
     cmd.add_option("--match", o.match, "Colour matching: 'joint' (real photo colours) or "
@@ -220,17 +226,28 @@ int run_volume(VolumeOptions& o) {
                     estimate.seconds, estimate.chosen.distance, estimate.paper.distance, estimate.chosen.strength,
                     estimate.chosen.coherence, estimate.chosen.defects, estimate.photo.strength,
                     estimate.photo.coherence, estimate.photo.defects);
+    {
+        const jade::StructureFit built = jade::measure_slice_structure(volume.levels, volume.resolution, photo);
+        std::printf("the volume's slices: structure distance %.3f, orientation strength %.2f, coherence %.2f, "
+                    "orientation defects %.3f\n",
+                    built.distance, built.strength, built.coherence, built.defects);
+    }
     if (!o.preview.empty()) {
         const jade::RgbImage8 slice = jade::slice_image(volume, volume.resolution / 2);
         jade::write_image_u8(o.preview, slice.width, slice.height, 3, slice.pixels);
     }
 
-    std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s: frequency %.2f, "
-                "k %.2f, stretch %.2f, angle %.1f, bands %.1f, warp %.2f%s; photo %.2f s, "
+    // The swept photo has no noise parameters to show.
+    char parameters[200] = "";
+    if (!noise.exemplar)
+        std::snprintf(parameters, sizeof parameters, " frequency %.2f, k %.2f, stretch %.2f, angle %.1f, bands %.1f, "
+                      "warp %.2f", noise.frequency, noise.k, noise.stretch, noise.angle, noise.bands, noise.warp);
+    std::string family = noise.family_suffix();
+    if (noise.exemplar && family.size() > 2) family = family.substr(1);  // its leading comma
+    std::printf("volume: %d^3 = %.1f M voxels (%s match, %zu foreground pixels); structure %s:%s%s; photo %.2f s, "
                 "structure+noise+matching %.2f s, vdb write %.2f s; %s %s; total %.2f s, peak memory %s\n",
                 volume.resolution, double(volume.levels.size()) / 1e6, jade::to_string(match),
-                photo.foreground_count(), jade::to_string(structure), noise.frequency, noise.k, noise.stretch,
-                noise.angle, noise.bands, noise.warp, noise.family_suffix().c_str(),
+                photo.foreground_count(), jade::to_string(structure), parameters, family.c_str(),
                 photo_s, volume_s, write_s, o.out.c_str(),
                 jade::format_megabytes(double(jade::file_size(o.out))).c_str(), total.seconds(),
                 jade::format_megabytes(double(jade::peak_rss_bytes())).c_str());
@@ -808,6 +825,10 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
     fidelity->add_option("--width", fbench.width, "Final render width")->capture_default_str();
     fidelity->add_option("--veins", fbench.veins,
                          "The default with --veins (the estimate searches them; the paper's method has none)")
+        ->capture_default_str();
+    fidelity->add_option("--structure", fbench.structure,
+                         "The default's structure: 'photo' (its own default), 'exemplar' or 'fbm' (the paper's "
+                         "method keeps the fBm)")
         ->capture_default_str();
     fidelity->add_option("--height", fbench.height, "Final render height")->capture_default_str();
     fidelity->add_option("--spp", fbench.spp,

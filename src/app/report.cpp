@@ -105,16 +105,22 @@ RgbImage8 fit_plot(const std::vector<FitRecord>& rows, double tolerance) {
 
 namespace {
 
-// The structure distance (texture_spectrum.h) of the volume's slices to the
-// photo, for the estimate and for the paper's fBm.
+// The structure distance (texture_spectrum.h) of the written volume's own
+// slices to the photo; and where the structure was estimated, the
+// estimate's and the paper's fBm's as the estimate measured them.
 nlohmann::json structure_json(const PipelineResult& res) {
+    const StructureFit& s = res.slices;
+    nlohmann::json j = {{"slices", {{"distance", s.distance}, {"strength", s.strength},
+                                    {"coherence", s.coherence}, {"defects", s.defects}}}};
+    if (!res.structure_estimated) return j;
     const StructureEstimate& e = res.structure;
-    return {{"seconds", res.seconds_structure},  {"photo_orientation", e.photo.orientation},
-            {"photo_strength", e.photo.strength}, {"photo_coherence", e.photo.coherence},
-            {"distance", e.chosen.distance},      {"strength", e.chosen.strength},
-            {"coherence", e.chosen.coherence},    {"paper_fbm_distance", e.paper.distance},
-            {"defects", e.chosen.defects},        {"photo_defects", e.photo.defects},
-            {"paper_fbm_strength", e.paper.strength}};
+    j.update({{"seconds", res.seconds_structure},  {"photo_orientation", e.photo.orientation},
+              {"photo_strength", e.photo.strength}, {"photo_coherence", e.photo.coherence},
+              {"distance", e.chosen.distance},      {"strength", e.chosen.strength},
+              {"coherence", e.chosen.coherence},    {"paper_fbm_distance", e.paper.distance},
+              {"defects", e.chosen.defects},        {"photo_defects", e.photo.defects},
+              {"paper_fbm_strength", e.paper.strength}});
+    return j;
 }
 
 // A texture spectrum as its measured bands: the lower edge of each band
@@ -174,6 +180,7 @@ nlohmann::json volume_json(const PipelineOptions& o, const MaterialVolume& volum
             {"veins", volume.noise.veins}, {"vein_frequency", volume.noise.vein_frequency},
             {"vein_width", volume.noise.vein_width}, {"layers", volume.noise.layers},
             {"sharpen", volume.noise.sharpen}, {"sharpen_radius", volume.noise.sharpen_radius},
+            {"exemplar", volume.noise.exemplar}, {"exemplar_wander", volume.noise.exemplar_wander},
             {"sharpen_clipped", volume.sharpen_clipped},
             {"match", to_string(volume.match)},
             {"extinction", to_string(volume.optics.extinction)},
@@ -314,7 +321,7 @@ std::string pipeline_report(const PipelineReport& in) {
         outputs[std::filesystem::path(path).filename().string()] = file_size(path);
     j["outputs"] = outputs;
     j["volume"] = volume_json(o, in.volume);
-    if (res.structure_estimated) j["structure"] = structure_json(res);
+    j["structure"] = structure_json(res);
     j["fit"] = fit_json(o, res.fit);
     if (res.sharper) j["sharpening"] = sharper_json(o, *res.sharper);
     j["final_render"] = final_render_json(in);
@@ -486,6 +493,9 @@ void print_render_summary(const PipelineResult& r) {
                     r.structure.chosen.noise.warp, r.structure.chosen.noise.family_suffix().c_str(),
                     r.structure.chosen.distance,
                     r.structure.paper.distance);
+    std::printf("the volume's slices against the photo: structure distance %.3f, orientation strength %.2f, "
+                "coherence %.2f, orientation defects %.3f\n",
+                r.slices.distance, r.slices.strength, r.slices.coherence, r.slices.defects);
     std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, brightness check %.2f, final render %.2f, writing %.2f; "
                 "total %.1f; peak memory %s\n",
                 r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_check, r.seconds_render, r.seconds_write,

@@ -266,6 +266,7 @@ openvdb::MetaMap material_metadata(const MaterialVolume& v) {
     meta.insertMeta("jade:layers", openvdb::Int32Metadata(v.noise.layers ? 1 : 0));
     meta.insertMeta("jade:sharpen", openvdb::DoubleMetadata(v.noise.sharpen));
     meta.insertMeta("jade:sharpen_radius", openvdb::DoubleMetadata(v.noise.sharpen_radius));
+    meta.insertMeta("jade:exemplar_wander", openvdb::DoubleMetadata(v.noise.exemplar_wander));
     meta.insertMeta("jade:match", openvdb::StringMetadata(to_string(v.match)));
     meta.insertMeta("jade:extinction", openvdb::StringMetadata(to_string(v.optics.extinction)));
     meta.insertMeta("jade:ds", openvdb::DoubleMetadata(v.optics.ds));
@@ -423,10 +424,13 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     v.noise.seed = std::uint32_t(required_int(meta, path, "jade:seed"));
     // Files from before the structure was chosen have the paper's fBm.
     if (const auto m = meta.getMetadata<openvdb::StringMetadata>("jade:structure")) {
-        if (m->value() != "fbm" && m->value() != "photo")
-            fail_file(path, "metadata 'jade:structure' must be 'photo' or 'fbm'");
+        if (m->value() != "fbm" && m->value() != "photo" && m->value() != "exemplar")
+            fail_file(path, "metadata 'jade:structure' must be 'photo', 'exemplar' or 'fbm'");
         v.structure = parse_structure_mode(m->value());
+        v.noise.exemplar = v.structure == StructureMode::Exemplar;
     }
+    if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:exemplar_wander"))
+        v.noise.exemplar_wander = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:frequency")) v.noise.frequency = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:stretch")) v.noise.stretch = m->value();
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:angle")) v.noise.angle = m->value();

@@ -1,5 +1,7 @@
 #include "jade/volume/material_volume.h"
 
+#include "jade/volume/exemplar.h"
+
 #include "jade/volume/sharpen.h"
 
 #include "jade/core/error.h"
@@ -175,16 +177,28 @@ MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& nois
     const int s = noise.resolution;
     const std::size_t m = std::size_t(s) * s;
     const std::vector<Rgb8> table = rank_colour_table(photo.foreground_levels(), m, match);
-    const Fbm fbm(noise);
     vol.levels.resize(m * s);
-    tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> slice(m);
-        for (int k = r.begin(); k < r.end(); ++k) {
-            fbm_slice(fbm, s, k, slice.data());
-            match_slice(slice.data(), m, table, &vol.levels[k * m]);
-            if (progress) progress->advance();
-        }
-    });
+    if (noise.exemplar) {
+        const Exemplar exemplar = make_exemplar(photo, s);
+        tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
+            std::vector<float> slice(m);
+            for (int k = r.begin(); k < r.end(); ++k) {
+                swept_slice(exemplar, s, k, noise.seed, noise.exemplar_wander, slice.data());
+                match_slice(slice.data(), m, table, &vol.levels[k * m]);
+                if (progress) progress->advance();
+            }
+        });
+    } else {
+        const Fbm fbm(noise);
+        tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
+            std::vector<float> slice(m);
+            for (int k = r.begin(); k < r.end(); ++k) {
+                fbm_slice(fbm, s, k, slice.data());
+                match_slice(slice.data(), m, table, &vol.levels[k * m]);
+                if (progress) progress->advance();
+            }
+        });
+    }
     vol.sharpen_clipped = sharpen_levels(vol.levels, s, noise.sharpen, noise.sharpen_radius);
     vol.optics.mean_level = mean_levels(vol.levels);
     return vol;

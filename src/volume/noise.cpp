@@ -36,19 +36,24 @@ NoiseParams magnified(const NoiseParams& p, double m) {
 }
 
 std::string NoiseParams::family_suffix() const {
-    std::string s = layers ? ", layers" : "";
-    if (bands > 0.0 && fold != 1.0) {
-        char buf[48];
-        std::snprintf(buf, sizeof buf, ", fold %.2f", fold);
+    char buf[96];
+    std::string s;
+    if (exemplar) {
+        // The noise's own families do not apply: only the sweep and the sharpening.
+        std::snprintf(buf, sizeof buf, ", the photo swept in depth (wander %.3g)", exemplar_wander);
         s += buf;
-    }
-    if (veins) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, ", veins (frequency %.2f, width %.4g)", vein_frequency, vein_width);
-        s += buf;
+    } else {
+        if (layers) s += ", layers";
+        if (bands > 0.0 && fold != 1.0) {
+            std::snprintf(buf, sizeof buf, ", fold %.2f", fold);
+            s += buf;
+        }
+        if (veins) {
+            std::snprintf(buf, sizeof buf, ", veins (frequency %.2f, width %.4g)", vein_frequency, vein_width);
+            s += buf;
+        }
     }
     if (sharpen > 0.0) {
-        char buf[64];
         std::snprintf(buf, sizeof buf, ", sharpened (%.3g over %.3g voxels)", sharpen, sharpen_radius);
         s += buf;
     }
@@ -91,6 +96,8 @@ void NoiseParams::validate() const {
         throw Error("--sharpen must be between 0 (none) and 16, got " + std::to_string(sharpen));
     if (!(sharpen_radius >= 0.25 && sharpen_radius <= 16.0))
         throw Error("--sharpen-radius must be between 0.25 and 16 voxels, got " + std::to_string(sharpen_radius));
+    if (!(exemplar_wander >= 0.0 && exemplar_wander <= 8.0))
+        throw Error("--exemplar-wander must be between 0 and 8 cube sides, got " + std::to_string(exemplar_wander));
     if (layers && !(bands > 0.0))
         throw Error("--layers needs --bands above 0, the layers per cube side of the profile's first octave "
                     "(with --structure photo the estimate searches layers by itself)");

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <tuple>
 
@@ -17,10 +18,18 @@ namespace jade {
 StructureMode parse_structure_mode(const std::string& s) {
     if (s == "fbm") return StructureMode::Fbm;
     if (s == "photo") return StructureMode::Photo;
-    throw Error("--structure must be 'photo' or 'fbm', got '" + s + "'");
+    if (s == "exemplar") return StructureMode::Exemplar;
+    throw Error("--structure must be 'photo', 'exemplar' or 'fbm', got '" + s + "'");
 }
 
-const char* to_string(StructureMode m) { return m == StructureMode::Fbm ? "fbm" : "photo"; }
+const char* to_string(StructureMode m) {
+    switch (m) {
+    case StructureMode::Fbm: return "fbm";
+    case StructureMode::Photo: return "photo";
+    case StructureMode::Exemplar: return "exemplar";
+    }
+    return "?";
+}
 
 GrayImage photo_luma(const Photo& photo) {
     GrayImage g;
@@ -93,23 +102,31 @@ PhotoTexture photo_texture(const Photo& photo) {
 }
 
 // Two slices a quarter and three quarters deep, so that one slice's chance
-// pattern does not decide; made in parallel, summed in their order.
-StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
-    NoiseParams at = noise;
-    at.resolution = std::min(noise.resolution, kEstimateResolution);
-    const int depths[2] = {at.resolution / 4, 3 * at.resolution / 4};
+// pattern does not decide: the spectra of slice(depth) at each, made in
+// parallel, and their measures against the photo's averaged in their order.
+StructureFit measure_two_slices(int resolution, const TextureSpectrum& photo,
+                                const std::function<GrayImage(int depth)>& slice) {
+    const int depths[2] = {resolution / 4, 3 * resolution / 4};
     TextureSpectrum spectra[2];
-    tbb::parallel_for(0, 2, [&](int i) {
-        spectra[i] = texture_spectrum(matched_noise_slice(at, depths[i], photo.sorted_luma), double(at.resolution));
-    });
-    StructureFit fit{noise, 0.0, 0.0, 0.0, 0.0, 0.0};
+    tbb::parallel_for(0, 2, [&](int i) { spectra[i] = texture_spectrum(slice(depths[i]), double(resolution)); });
+    StructureFit fit;
     for (const TextureSpectrum& sp : spectra) {
-        fit.distance += 0.5 * structure_distance(sp, photo.spectrum);
+        fit.distance += 0.5 * structure_distance(sp, photo);
         fit.strength += 0.5 * sp.strength;
         fit.coherence += 0.5 * sp.coherence;
         fit.defects += 0.5 * sp.defects;
         fit.orientation = sp.orientation;
     }
+    return fit;
+}
+
+StructureFit evaluate(const NoiseParams& noise, const PhotoTexture& photo) {
+    NoiseParams at = noise;
+    at.resolution = std::min(noise.resolution, kEstimateResolution);
+    StructureFit fit = measure_two_slices(at.resolution, photo.spectrum, [&](int depth) {
+        return matched_noise_slice(at, depth, photo.sorted_luma);
+    });
+    fit.noise = noise;
     return fit;
 }
 
@@ -262,6 +279,23 @@ StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo) {
     return f;
 }
 
+StructureFit measure_slice_structure(const std::vector<Rgb8>& levels, int resolution, const Photo& photo) {
+    const int s = resolution;
+    const TextureSpectrum target = texture_spectrum(photo_luma(photo), photo_pixels_per_side(photo));
+    return measure_two_slices(s, target, [&](int depth) {
+        GrayImage g;
+        g.width = g.height = s;
+        g.values.resize(std::size_t(s) * s);
+        for (int y = 0; y < s; ++y)
+            for (int x = 0; x < s; ++x) {
+                const Rgb8& v = levels[(std::size_t(depth) * s + y) * s + x];
+                // Seen from +z with y up, as matched_noise_slice shows a slice.
+                g.values[std::size_t(s - 1 - y) * s + x] = float(luma(v[0], v[1], v[2]));
+            }
+        return g;
+    });
+}
+
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base) {
     const Stopwatch clock;
     const PhotoTexture texture = photo_texture(photo);
@@ -322,6 +356,11 @@ NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, Structure
                          StructureEstimate* estimate) {
     given.validate();
     if (mode == StructureMode::Fbm) return given;
+    if (mode == StructureMode::Exemplar) {
+        NoiseParams noise = given;
+        noise.exemplar = true;
+        return noise;
+    }
     StructureEstimate e = estimate_structure(photo, given);
     if (estimate) *estimate = e;
     return e.chosen.noise;

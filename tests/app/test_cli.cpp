@@ -93,8 +93,8 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
     REQUIRE(r.code == 0);
     CHECK(std::filesystem::file_size(dir.file("out.vdb")) > 32u * 32u * 32u);
     CHECK(std::filesystem::exists(dir.file("slice.png")));
-    // The structure estimate's line, then the summary.
-    CHECK(lines(r.out) == 2);
+    // The structure estimate's line, the volume's own slices', then the summary.
+    CHECK(lines(r.out) == 3);
     CHECK_THAT(r.out, Catch::Contains("structure from the photo") && Catch::Contains("the paper's fBm"));
     CHECK_THAT(r.out, Catch::Contains("32^3") && Catch::Contains("MB"));
     CHECK(dir.entries() == 2);
@@ -103,8 +103,28 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
                                 "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
                                     dir.file("fbm.vdb"));
     REQUIRE(fbm.code == 0);
-    CHECK(lines(fbm.out) == 1);
+    CHECK(lines(fbm.out) == 2);
     CHECK_THAT(fbm.out, Catch::Contains("structure fbm: frequency 1.00, k 0.50, stretch 1.00"));
+
+    // The photo swept through the cube: no estimate, and its slices are the
+    // photo's structure, where the paper's fBm's are far from it.
+    const Result swept = run(dir, "volume --structure exemplar --photo " JADE_DATA_DIR
+                                  "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
+                                      dir.file("swept.vdb"));
+    REQUIRE(swept.code == 0);
+    CHECK(lines(swept.out) == 2);
+    CHECK_THAT(swept.out, Catch::Contains("structure exemplar") &&
+                              Catch::Contains("the photo swept in depth (wander 0.125)"));
+    auto slice_distance = [](const std::string& out) {
+        std::smatch m;
+        REQUIRE(std::regex_search(out, m, std::regex(R"(the volume's slices: structure distance ([0-9.]+))")));
+        return std::stod(m[1]);
+    };
+    CHECK(slice_distance(swept.out) < 0.1);
+    CHECK(slice_distance(fbm.out) > 5.0 * slice_distance(swept.out));
+    const jade::MaterialVolume swept_volume = jade::read_material_vdb(dir.file("swept.vdb"));
+    CHECK(swept_volume.structure == jade::StructureMode::Exemplar);
+    CHECK(swept_volume.noise.exemplar);
 
     // The extinction: grey by default, §5.1's on request, and the file says which.
     CHECK(jade::read_material_vdb(dir.file("fbm.vdb")).optics.extinction == jade::Extinction::Grey);

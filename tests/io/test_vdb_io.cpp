@@ -72,6 +72,8 @@ void require_same(const MaterialVolume& a, const MaterialVolume& b) {
     CHECK(a.noise.vein_frequency == b.noise.vein_frequency);
     CHECK(a.noise.vein_width == b.noise.vein_width);
     CHECK(a.noise.layers == b.noise.layers);
+    CHECK(a.noise.exemplar == b.noise.exemplar);
+    CHECK(a.noise.exemplar_wander == b.noise.exemplar_wander);
     CHECK(a.structure == b.structure);
     CHECK(a.match == b.match);
     CHECK(a.optics.extinction == b.optics.extinction);
@@ -252,6 +254,18 @@ TEST_CASE("the noise's structure travels in the file and rebuilds the same level
     const MaterialVolume back = read_material_vdb(dir.file("v.vdb"));
     require_same(v, back);
     // The stored parameters alone give the same volume again.
+    CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
+}
+
+TEST_CASE("a volume swept from the photo round-trips and rebuilds from its metadata", "[vdb]") {
+    TempDir dir;
+    NoiseParams swept;
+    swept.exemplar = true, swept.exemplar_wander = 0.3, swept.seed = 7;  // not the defaults
+    MaterialVolume v = sample_volume(16, OpticalParams{}, swept);
+    v.structure = StructureMode::Exemplar;
+    write_material_vdb(dir.file("v.vdb"), v);
+    const MaterialVolume back = read_material_vdb(dir.file("v.vdb"));
+    require_same(v, back);
     CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
 }
 

@@ -91,6 +91,7 @@ struct FidelityBenchOptions {
     // bands under the noise (TextureSpectrum::below_noise) fall with it.
     int spp = 256;
     bool veins = false;            // the default's structure with veins (NoiseParams::veins)
+    std::string structure = "photo";  // the default's --structure (parse_structure_mode)
     // Both methods with noise and render seeds 1..seeds, each pair into
     // default-seedS/ and paper-seedS/ (above 1), and D's ratio over them with
     // its standard error: one seed's pattern against the form's shading moves
@@ -102,7 +103,7 @@ int run_fidelity_benchmark(const FidelityBenchOptions& options);
 // The pipeline options of the two methods for noise and render seed `seed`.
 // The default's: the pipeline's own (the structure from the photo, joint
 // matching, the sharpening the fit chooses, the contrast fit), with veins
-// where asked.
+// or another structure where asked.
 // The paper's method as §4–5 give it: per-channel histogram matching of
 // unsharpened levels, d_a = 0.1, §5.1's extinction, the fBm with its fixed
 // frequency and amplitude ratio, and k_s stepped by 0.01 (Algorithm 2) with

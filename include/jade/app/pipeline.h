@@ -119,6 +119,9 @@ struct PipelineResult {
     std::optional<BrightnessCheck> brightness_check;
     StructureEstimate structure;      // when the structure was estimated from the photo
     bool structure_estimated = false;
+    // The written volume's own slices against the photo, whatever made them
+    // (measure_slice_structure; its noise is not set).
+    StructureFit slices;
     RenderResult final_render;
     Appearance final_look;            // the final render against the photo (fit/appearance.h)
     std::optional<MaterialAppearance> material;  // with measure_material

@@ -70,6 +70,13 @@ struct NoiseParams {
     // the stored levels were made, so it travels with these parameters.
     double sharpen = 0.0;
     double sharpen_radius = 1.0;
+    // With `exemplar` the structure is not noise: build_material_volume
+    // sweeps the photo itself through the cube (volume/exemplar.h), its
+    // offset wandering by up to `exemplar_wander` cube sides; the noise's
+    // other parameters are then unused. Likewise part of how the levels
+    // were made.
+    bool exemplar = false;
+    double exemplar_wander = 0.125;
 
     // The octave count actually used (resolves octaves == 0).
     int octave_count() const;

@@ -14,10 +14,11 @@
 
 namespace jade {
 
-// How the noise's structure is chosen: the paper's fixed fBm (§4.1), or
-// estimated from the photo.
-enum class StructureMode { Fbm, Photo };
-StructureMode parse_structure_mode(const std::string& s);  // "fbm" | "photo"; throws jade::Error
+// How the volume's structure is chosen: the paper's fixed fBm (§4.1), a
+// noise estimated from the photo, or the photo itself swept through the
+// cube as an exemplar (volume/exemplar.h).
+enum class StructureMode { Fbm, Photo, Exemplar };
+StructureMode parse_structure_mode(const std::string& s);  // "fbm" | "photo" | "exemplar"; throws jade::Error
 const char* to_string(StructureMode m);
 
 // The photo's luma as a texture (its foreground as the mask); how many of its
@@ -47,6 +48,13 @@ struct StructureFit {
 };
 StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo);
 
+// The same measures of a built volume's own slices (levels as stored,
+// s³, index (z·s + y)·s + x; their luma), a quarter and three quarters
+// deep, against the photo at the cube's scale: what a synthesis made of the
+// noise (volume/exemplar.h) shows, which the noise's parameters alone do
+// not say. `noise` is left as given.
+StructureFit measure_slice_structure(const std::vector<Rgb8>& levels, int resolution, const Photo& photo);
+
 // The noise of a StructureFit is in the cube's frame (cycles per cube side);
 // its measures compare slices at the photo's own scale, the noise magnified
 // down by the photo's span (magnified in noise.h), with the photo.
@@ -66,7 +74,8 @@ struct StructureEstimate {
 // (NoiseParams::veins; then their frequency and width are searched too).
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base);
 
-// The noise a volume is built with: `given` itself for the paper's fBm, or
+// The noise a volume is built with: `given` itself for the paper's fBm,
+// `given` with NoiseParams::exemplar set for the photo as the exemplar, or
 // its resolution, octaves and seed with the structure estimated from the
 // photo. The estimate (when made) is left in `estimate`.
 NoiseParams choose_noise(const Photo& photo, const NoiseParams& given, StructureMode mode,
