@@ -1,7 +1,6 @@
 #include "jade/volume/material_volume.h"
 
 #include "jade/volume/exemplar.h"
-
 #include "jade/volume/sharpen.h"
 
 #include "jade/core/error.h"
@@ -11,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace jade {
 
@@ -178,27 +178,25 @@ MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& nois
     const std::size_t m = std::size_t(s) * s;
     const std::vector<Rgb8> table = rank_colour_table(photo.foreground_levels(), m, match);
     vol.levels.resize(m * s);
-    if (noise.exemplar) {
-        const Exemplar exemplar = make_exemplar(photo, s);
-        tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
-            std::vector<float> slice(m);
-            for (int k = r.begin(); k < r.end(); ++k) {
-                swept_slice(exemplar, s, k, noise.seed, noise.exemplar_wander, slice.data());
-                match_slice(slice.data(), m, table, &vol.levels[k * m]);
-                if (progress) progress->advance();
-            }
-        });
-    } else {
-        const Fbm fbm(noise);
-        tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
-            std::vector<float> slice(m);
-            for (int k = r.begin(); k < r.end(); ++k) {
-                fbm_slice(fbm, s, k, slice.data());
-                match_slice(slice.data(), m, table, &vol.levels[k * m]);
-                if (progress) progress->advance();
-            }
-        });
-    }
+    // Each slice's values, from the noise or from the photo swept in depth;
+    // matched as soon as they exist, so no float cube is ever held.
+    std::optional<Fbm> fbm;
+    std::optional<Exemplar> exemplar;
+    if (noise.exemplar)
+        exemplar = make_exemplar(photo, s);
+    else
+        fbm.emplace(noise);
+    tbb::parallel_for(tbb::blocked_range<int>(0, s, 1), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> slice(m);
+        for (int k = r.begin(); k < r.end(); ++k) {
+            if (exemplar)
+                swept_slice(*exemplar, s, k, noise.seed, noise.exemplar_wander, slice.data());
+            else
+                fbm_slice(*fbm, s, k, slice.data());
+            match_slice(slice.data(), m, table, &vol.levels[k * m]);
+            if (progress) progress->advance();
+        }
+    });
     vol.sharpen_clipped = sharpen_levels(vol.levels, s, noise.sharpen, noise.sharpen_radius);
     vol.optics.mean_level = mean_levels(vol.levels);
     return vol;

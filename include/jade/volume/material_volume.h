@@ -132,9 +132,10 @@ MeanCoefficients mean_coefficients(const MaterialVolume& volume);
 // are the stored levels exactly.
 RgbImage8 slice_image(const MaterialVolume& volume, int z);
 
-// Noise (§4.1) → colour matching (§4.2) → levels, slice by slice in parallel.
-// Each slice's noise is matched as soon as it exists, so the full float noise
-// cube is never held (the volume costs 3 bytes a voxel, not 7).
+// Noise (§4.1), or the photo swept in depth (NoiseParams::exemplar,
+// volume/exemplar.h) → colour matching (§4.2) → levels, slice by slice in
+// parallel. Each slice's values are matched as soon as they exist, so no
+// full float cube is held (the volume costs 3 bytes a voxel, not 7).
 MaterialVolume build_material_volume(const Photo& photo, const NoiseParams& noise, MatchMode match,
                                      const OpticalParams& optics, Progress* progress = nullptr);
 
