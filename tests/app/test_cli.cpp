@@ -6,6 +6,7 @@
 #include "jade/core/memory.h"
 #include "jade/fit/fit_session.h"
 #include "jade/io/image_io.h"
+#include "jade/app/bench.h"
 #include "jade/io/vdb_io.h"
 #include "jade/volume/sharpen.h"
 
@@ -1260,6 +1261,22 @@ TEST_CASE("bench fidelity --seeds, --spp and --photo-span: refused at 0 before a
                               option);
         CHECK_FALSE(std::filesystem::exists(dir.file("c")));
     }
+}
+
+TEST_CASE("bench fidelity --structure: the default's structure; an unknown one refused before anything is written",
+          "[cli][fit]") {
+    TempDir dir;
+    require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
+                                   "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow +
+                                   " --structure marble --out " + dir.file("c"),
+                          "--structure must be 'photo', 'exemplar' or 'fbm', got 'marble'");
+    CHECK_FALSE(std::filesystem::exists(dir.file("c")));
+    jade::FidelityBenchOptions b;
+    b.structure = "exemplar";
+    CHECK(jade::default_method_options(b, 1).structure == jade::StructureMode::Exemplar);
+    CHECK(jade::paper_method_options(b, 1).structure == jade::StructureMode::Fbm);
+    b.structure = "photo";
+    CHECK(jade::default_method_options(b, 1).structure == jade::StructureMode::Photo);
 }
 
 TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {
