@@ -1263,7 +1263,7 @@ TEST_CASE("bench fidelity --seeds, --spp and --photo-span: refused at 0 before a
     }
 }
 
-TEST_CASE("bench fidelity --structure: the default's structure; an unknown one refused before anything is written",
+TEST_CASE("bench fidelity --structure: the default's structure, and an unknown one refused before anything is written",
           "[cli][fit]") {
     TempDir dir;
     require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
