@@ -424,9 +424,11 @@ MaterialVolume material_from_metadata(const openvdb::MetaMap& meta, const std::s
     v.noise.seed = std::uint32_t(required_int(meta, path, "jade:seed"));
     // Files from before the structure was chosen have the paper's fBm.
     if (const auto m = meta.getMetadata<openvdb::StringMetadata>("jade:structure")) {
-        if (m->value() != "fbm" && m->value() != "photo" && m->value() != "exemplar")
-            fail_file(path, "metadata 'jade:structure' must be 'photo', 'exemplar' or 'fbm'");
-        v.structure = parse_structure_mode(m->value());
+        try {
+            v.structure = parse_structure_mode(m->value());
+        } catch (const Error&) {
+            fail_file(path, std::string("metadata 'jade:structure' must be ") + structure_mode_names());
+        }
         v.noise.exemplar = v.structure == StructureMode::Exemplar;
     }
     if (const auto m = meta.getMetadata<openvdb::DoubleMetadata>("jade:exemplar_wander"))

@@ -19,8 +19,10 @@ StructureMode parse_structure_mode(const std::string& s) {
     if (s == "fbm") return StructureMode::Fbm;
     if (s == "photo") return StructureMode::Photo;
     if (s == "exemplar") return StructureMode::Exemplar;
-    throw Error("--structure must be 'photo', 'exemplar' or 'fbm', got '" + s + "'");
+    throw Error(std::string("--structure must be ") + structure_mode_names() + ", got '" + s + "'");
 }
+
+const char* structure_mode_names() { return "'photo', 'exemplar' or 'fbm'"; }
 
 const char* to_string(StructureMode m) {
     switch (m) {

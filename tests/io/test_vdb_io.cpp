@@ -267,6 +267,14 @@ TEST_CASE("a volume swept from the photo round-trips and rebuilds from its metad
     const MaterialVolume back = read_material_vdb(dir.file("v.vdb"));
     require_same(v, back);
     CHECK(build_material_volume(sample_photo(), back.noise, back.match, back.optics).levels == v.levels);
+    // A structure the reader does not know is refused, naming the file and the metadata.
+    auto [grids, meta] = read_all(dir.file("v.vdb"));
+    meta->removeMeta("jade:structure");
+    meta->insertMeta("jade:structure", openvdb::StringMetadata("marble"));
+    openvdb::io::File(dir.file("bad.vdb")).write(*grids, *meta);
+    CHECK_THROWS_WITH(read_material_vdb(dir.file("bad.vdb")),
+                      Catch::Contains("bad.vdb") &&
+                          Catch::Contains("metadata 'jade:structure' must be 'photo', 'exemplar' or 'fbm'"));
 }
 
 TEST_CASE("a file from before the fold reads with the isotropic warp it was made with", "[vdb]") {

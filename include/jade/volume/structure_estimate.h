@@ -19,6 +19,8 @@ namespace jade {
 // cube as an exemplar (volume/exemplar.h).
 enum class StructureMode { Fbm, Photo, Exemplar };
 StructureMode parse_structure_mode(const std::string& s);  // "fbm" | "photo" | "exemplar"; throws jade::Error
+// The names parse_structure_mode takes, as an error message lists them.
+const char* structure_mode_names();
 const char* to_string(StructureMode m);
 
 // The photo's luma as a texture (its foreground as the mask); how many of its
