@@ -52,9 +52,9 @@ StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo);
 
 // The same measures of a built volume's own slices (levels as stored,
 // s³, index (z·s + y)·s + x; their luma), a quarter and three quarters
-// deep, against the photo at the cube's scale: what a synthesis made of the
-// noise (volume/exemplar.h) shows, which the noise's parameters alone do
-// not say. `noise` is left as given.
+// deep, against the photo at the cube's scale: what the written levels
+// show, sharpened or swept from the photo (volume/exemplar.h), which the
+// noise's parameters alone do not say. The result's `noise` is left default.
 StructureFit measure_slice_structure(const std::vector<Rgb8>& levels, int resolution, const Photo& photo);
 
 // The noise of a StructureFit is in the cube's frame (cycles per cube side);
