@@ -104,7 +104,8 @@ void add_volume_flags(CLI::App& cmd, VolumeOptions& o, bool photo_required = tru
     cmd.add_option("--structure", o.structure,
                    "Structure: 'photo' (a noise whose frequency, k, stretch, angle, bands and folds are "
                    "estimated from the photo's spectrum), 'exemplar' (the photo itself swept through the cube's "
-                   "depth: every slice facing the camera is the photo, moved as --exemplar-wander says) or 'fbm' "
+                   "depth: every slice facing the camera is the photo, moved as --exemplar-wander says; across, "
+                   "stripes) or 'fbm' "
                    "(the paper's, or as given by --frequency, --k, --stretch, --angle)")
         ->capture_default_str();
     cmd.add_option("--k", o.noise.k,
@@ -231,6 +232,10 @@ int run_volume(VolumeOptions& o) {
         std::printf("the volume's slices: structure distance %.3f, orientation strength %.2f, coherence %.2f, "
                     "orientation defects %.3f\n",
                     built.distance, built.strength, built.coherence, built.defects);
+        const jade::StructureFit across = jade::measure_slice_structure_across(volume.levels, volume.resolution, photo);
+        std::printf("the volume's slices across (normal to x and y): structure distance %.3f, orientation strength "
+                    "%.2f, coherence %.2f, orientation defects %.3f\n",
+                    across.distance, across.strength, across.coherence, across.defects);
     }
     if (!o.preview.empty()) {
         const jade::RgbImage8 slice = jade::slice_image(volume, volume.resolution / 2);

@@ -97,6 +97,14 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     // Each written volume's own slices (the paper's is its fBm, unsharpened).
     std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, volume slice", def.slices.distance, "",
                 paper.slices.distance);
+    std::printf("  %-34s  %8.3f %18s  %8.3f\n", "  slices across (normal to x, y)", def.slices_across.distance, "",
+                paper.slices_across.distance);
+    // A structure made for the view along z (the sweep) shows stripes
+    // across it: strength far above the photo's.
+    char photo_strength[32];
+    std::snprintf(photo_strength, sizeof photo_strength, "(photo %.2f)", def.final_look.photo.strength);
+    std::printf("  %-34s  %8.2f %18s  %8.2f\n", "  their orientation strength", def.slices_across.strength,
+                photo_strength, paper.slices_across.strength);
     std::printf("  %-34s  %8d %18s  %8d\n", "fitting renders", fit_renders(def), "", fit_renders(paper));
     std::printf("  %-34s  %8.1f %18s  %8.1f\n", "seconds: fit", def.seconds_fit, "", paper.seconds_fit);
     std::printf("  %-34s  %8.1f %18s  %8.1f\n", "seconds: volume", def.seconds_volume, "", paper.seconds_volume);

@@ -470,6 +470,7 @@ PipelineResult run_pipeline(const PipelineOptions& o) {
     fitted = fit_sharper_stone(o, photo, *prep, std::move(fitted), res);
     if (res.sharper) res.seconds_fit += res.sharper->seconds;
     res.slices = measure_slice_structure(fitted->volume.levels, fitted->volume.resolution, photo);
+    res.slices_across = measure_slice_structure_across(fitted->volume.levels, fitted->volume.resolution, photo);
     res.fit = fitted->outcome;
     for (const std::string& w : res.fit.warnings) res.warnings.push_back("fit: " + w);
     check_and_render(o, *prep, fitted->session, fitted->volume, res);

@@ -109,9 +109,11 @@ namespace {
 // slices to the photo; and where the structure was estimated, the
 // estimate's and the paper's fBm's as the estimate measured them.
 nlohmann::json structure_json(const PipelineResult& res) {
-    const StructureFit& s = res.slices;
-    nlohmann::json j = {{"slices", {{"distance", s.distance}, {"strength", s.strength},
-                                    {"coherence", s.coherence}, {"defects", s.defects}}}};
+    const auto measures = [](const StructureFit& s) {
+        return nlohmann::json{
+            {"distance", s.distance}, {"strength", s.strength}, {"coherence", s.coherence}, {"defects", s.defects}};
+    };
+    nlohmann::json j = {{"slices", measures(res.slices)}, {"slices_across", measures(res.slices_across)}};
     if (!res.structure_estimated) return j;
     const StructureEstimate& e = res.structure;
     j.update({{"seconds", res.seconds_structure},  {"photo_orientation", e.photo.orientation},
@@ -496,6 +498,10 @@ void print_render_summary(const PipelineResult& r) {
     std::printf("the volume's slices against the photo: structure distance %.3f, orientation strength %.2f, "
                 "coherence %.2f, orientation defects %.3f\n",
                 r.slices.distance, r.slices.strength, r.slices.coherence, r.slices.defects);
+    std::printf("the volume's slices across (normal to x and y): structure distance %.3f, orientation strength %.2f, "
+                "coherence %.2f, orientation defects %.3f\n",
+                r.slices_across.distance, r.slices_across.strength, r.slices_across.coherence,
+                r.slices_across.defects);
     std::printf("seconds: inputs %.2f, volume %.2f, fit %.2f, brightness check %.2f, final render %.2f, writing %.2f; "
                 "total %.1f; peak memory %s\n",
                 r.seconds_photo, r.seconds_volume, r.seconds_fit, r.seconds_check, r.seconds_render, r.seconds_write,

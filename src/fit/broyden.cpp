@@ -18,14 +18,14 @@ std::array<double, 2> BroydenJacobian2::newton_step(const std::array<double, 2>&
 }
 
 bool BroydenJacobian2::update(const std::array<double, 2>& dx, const std::array<double, 2>& df,
-                              double min_change) {
+                              const std::array<double, 2>& min_change) {
     const std::array<double, 2> w{m[0][0] * m[0][0], m[1][1] * m[1][1]};
     const double norm2 = w[0] * dx[0] * dx[0] + w[1] * dx[1] * dx[1];
     if (!(norm2 > 0.0)) return false;
     bool changed = false;
     for (int i = 0; i < 2; ++i) {
         const double expected = m[i][0] * dx[0] + m[i][1] * dx[1];
-        if (!(std::max(std::abs(expected), std::abs(df[i])) >= min_change)) continue;
+        if (!(std::max(std::abs(expected), std::abs(df[i])) >= min_change[std::size_t(i)])) continue;
         changed = true;
         const double miss = df[i] - expected;
         const double old = m[i][i];

@@ -688,10 +688,19 @@ constexpr double kMinSpreadElasticity = 0.1;
 
 }  // namespace
 
-// A change of (ΔA, ΔS) smaller than this (gray levels) says too little
-// beside the renders' noise (A's standard error is 0.3, S's about as much,
-// and a change is the difference of two) to correct the Jacobian by.
+// A change of ΔS smaller than this (gray levels) says too little beside
+// the renders' noise (a reading of S scatters by about half a level from one
+// render seed to the next, and a change is the difference of two) to
+// correct the Jacobian by; nor of ΔA, unless the two
+// renders' own standard errors of A say a smaller change is plain:
+// kJacobianNoiseMultiple of the change's standard error, at least
+// kJacobianMinChangeA. A at 128 spp has a standard error of 0.04–0.08
+// levels; at the 2-level rule a step whose A missed the Jacobian's
+// prediction by 1.9 levels taught nothing, and a wrong dA/dg learnt on a
+// long step stayed (docs/design.md, "Contrast").
 constexpr double kJacobianMinChange = 2.0;
+constexpr double kJacobianNoiseMultiple = 4.0;
+constexpr double kJacobianMinChangeA = 0.5;
 
 // The state of --fit contrast's search, per channel.
 struct FitSession::ContrastSearch {
@@ -707,6 +716,7 @@ struct FitSession::ContrastSearch {
     // update (a step in density scale moves A and S as well).
     std::array<double, 3> k_prev{}, g_prev{};
     std::array<std::array<double, 2>, 3> residual_prev{};
+    std::array<double, 3> a_sigma_prev{};  // that step's standard error of A
     bool have_prev = false;
     // The last render's contrast, S and ΔA per channel, and the same at the
     // last step in density scale (density_at_raise > 0 once there was one):
@@ -822,7 +832,7 @@ void FitSession::fit_contrast(const std::array<double, 3>& brightness_slope) {
         st.s_last = spread.s;
         st.delta_last = delta;
         for (int c = 0; c < 3; ++c) {
-            contrast_step(st, c, delta[c], spread.s[c]);
+            contrast_step(st, c, delta[c], spread.s[c], rec.a_sigma[c]);
             all_done = all_done && st.done[c];
         }
         st.have_prev = true;
@@ -1005,7 +1015,7 @@ void FitSession::finish_contrast(const ContrastSearch& st) {
 // ΔA = delta and S_material = s: keep the best (k_s, g), stop when both
 // match, else correct the Jacobian by the step just made (Broyden) and take
 // the next k_s and g from it.
-void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s) {
+void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s, double a_sigma) {
     const double s_photo = st.s_photo[c];
     // Where the noise hides S (choose_spread_block), only A is judged and
     // the contrast stays.
@@ -1022,10 +1032,13 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
     BroydenJacobian2& jac = st.jacobian[c];
     const std::array<double, 2> residual{delta, s_off};
     const double g = st.g[c];
-    if (st.have_prev)
+    if (st.have_prev) {
+        const double a_change_error = std::hypot(a_sigma, st.a_sigma_prev[c]);
+        const double a_min = std::clamp(kJacobianNoiseMultiple * a_change_error, kJacobianMinChangeA, kJacobianMinChange);
         jac.update({st.k[c] - st.k_prev[c], g - st.g_prev[c]},
-                   {residual[0] - st.residual_prev[c][0], residual[1] - st.residual_prev[c][1]}, kJacobianMinChange);
-    else if (!(jac.m[1][1] > 0.0))
+                   {residual[0] - st.residual_prev[c][0], residual[1] - st.residual_prev[c][1]},
+                   {a_min, kJacobianMinChange});
+    } else if (!(jac.m[1][1] > 0.0)) {
         // S grows as the contrasted levels' spread does: in proportion to g
         // while no voxel clips (dS/dg = S/g), less as the contrast clips
         // them (spread_elasticity), except where S is the rounding of a flat
@@ -1034,9 +1047,11 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
         // whose contrast moves nothing.
         jac.m[1][1] = s * s > kSpreadScatterFloor && g > 0.0 ? s / g * spread_elasticity(c, g)
                                                              : std::max(s_photo, 1.0);
+    }
     st.k_prev[c] = st.k[c];
     st.g_prev[c] = g;
     st.residual_prev[c] = residual;
+    st.a_sigma_prev[c] = a_sigma;
     // Newton's step for both; each step at most quadruples or quarters g,
     // and k_s then makes up for the contrast's actual move.
     double g_next = st.spread_seen[c] ? g + jac.newton_step(residual)[1] : g;

@@ -281,21 +281,47 @@ StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo) {
     return f;
 }
 
+namespace {
+
+// The luma of a built volume's slice normal to `axis` (0 x, 1 y, 2 z) at
+// `depth`: normal to z seen from +z with y up, as matched_noise_slice shows
+// a slice; normal to x seen from +x with y up (z to the left); normal to y
+// seen from +y, x to the right and z down.
+GrayImage volume_slice_luma(const std::vector<Rgb8>& levels, int s, int axis, int depth) {
+    GrayImage g;
+    g.width = g.height = s;
+    g.values.resize(std::size_t(s) * s);
+    for (int row = 0; row < s; ++row)
+        for (int col = 0; col < s; ++col) {
+            int x = col, y = s - 1 - row, z = depth;
+            if (axis == 0) x = depth, z = s - 1 - col;
+            if (axis == 1) y = depth, z = row;
+            const Rgb8& v = levels[(std::size_t(z) * s + y) * s + x];
+            g.values[std::size_t(row) * s + col] = float(luma(v[0], v[1], v[2]));
+        }
+    return g;
+}
+
+}  // namespace
+
 StructureFit measure_slice_structure(const std::vector<Rgb8>& levels, int resolution, const Photo& photo) {
-    const int s = resolution;
     const TextureSpectrum target = texture_spectrum(photo_luma(photo), photo_pixels_per_side(photo));
-    return measure_two_slices(s, target, [&](int depth) {
-        GrayImage g;
-        g.width = g.height = s;
-        g.values.resize(std::size_t(s) * s);
-        for (int y = 0; y < s; ++y)
-            for (int x = 0; x < s; ++x) {
-                const Rgb8& v = levels[(std::size_t(depth) * s + y) * s + x];
-                // Seen from +z with y up, as matched_noise_slice shows a slice.
-                g.values[std::size_t(s - 1 - y) * s + x] = float(luma(v[0], v[1], v[2]));
-            }
-        return g;
-    });
+    return measure_two_slices(resolution, target,
+                              [&](int depth) { return volume_slice_luma(levels, resolution, 2, depth); });
+}
+
+StructureFit measure_slice_structure_across(const std::vector<Rgb8>& levels, int resolution, const Photo& photo) {
+    const TextureSpectrum target = texture_spectrum(photo_luma(photo), photo_pixels_per_side(photo));
+    StructureFit fit;
+    for (int axis : {0, 1}) {
+        const StructureFit one = measure_two_slices(
+            resolution, target, [&](int depth) { return volume_slice_luma(levels, resolution, axis, depth); });
+        fit.distance += 0.5 * one.distance;
+        fit.strength += 0.5 * one.strength;
+        fit.coherence += 0.5 * one.coherence;
+        fit.defects += 0.5 * one.defects;
+    }
+    return fit;
 }
 
 StructureEstimate estimate_structure(const Photo& photo, const NoiseParams& base) {

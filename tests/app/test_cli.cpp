@@ -94,8 +94,9 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
     REQUIRE(r.code == 0);
     CHECK(std::filesystem::file_size(dir.file("out.vdb")) > 32u * 32u * 32u);
     CHECK(std::filesystem::exists(dir.file("slice.png")));
-    // The structure estimate's line, the volume's own slices', then the summary.
-    CHECK(lines(r.out) == 3);
+    // The structure estimate's line, the volume's own slices' (facing the
+    // camera and across), then the summary.
+    CHECK(lines(r.out) == 4);
     CHECK_THAT(r.out, Catch::Contains("structure from the photo") && Catch::Contains("the paper's fBm"));
     CHECK_THAT(r.out, Catch::Contains("32^3") && Catch::Contains("MB"));
     CHECK(dir.entries() == 2);
@@ -104,7 +105,7 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
                                 "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
                                     dir.file("fbm.vdb"));
     REQUIRE(fbm.code == 0);
-    CHECK(lines(fbm.out) == 2);
+    CHECK(lines(fbm.out) == 3);
     CHECK_THAT(fbm.out, Catch::Contains("structure fbm: frequency 1.00, k 0.50, stretch 1.00"));
 
     // The photo swept through the cube: no estimate, and its slices are the
@@ -113,7 +114,7 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
                                   "/photos/ambientcg_Onyx002_512_diff.jpg --resolution 32 --out " +
                                       dir.file("swept.vdb"));
     REQUIRE(swept.code == 0);
-    CHECK(lines(swept.out) == 2);
+    CHECK(lines(swept.out) == 3);
     CHECK_THAT(swept.out, Catch::Contains("structure exemplar") &&
                               Catch::Contains("the photo swept in depth (wander 0.125)"));
     auto slice_distance = [](const std::string& out) {
@@ -123,6 +124,11 @@ TEST_CASE("volume: the demo photo gives a .vdb, the structure estimate and a sum
     };
     CHECK(slice_distance(swept.out) < 0.1);
     CHECK(slice_distance(fbm.out) > 5.0 * slice_distance(swept.out));
+    // Across the sweep its slices are stripes: further from the photo than
+    // those facing the camera.
+    std::smatch across;
+    REQUIRE(std::regex_search(swept.out, across, std::regex(R"(slices across \(normal to x and y\): structure distance ([0-9.]+))")));
+    CHECK(std::stod(across[1]) > 2.0 * slice_distance(swept.out));
     const jade::MaterialVolume swept_volume = jade::read_material_vdb(dir.file("swept.vdb"));
     CHECK(swept_volume.structure == jade::StructureMode::Exemplar);
     CHECK(swept_volume.noise.exemplar);
@@ -849,6 +855,11 @@ TEST_CASE("pipeline: where the first fit reaches the density scale's ceiling, it
     CHECK(resumed["renders"].get<int>() <= 24 - stopped["renders"].get<int>());
     CHECK(report["volume"]["sharpen"] == 0.0);
     CHECK(jade::read_material_vdb(dir.file("out/volume.vdb")).noise.sharpen == 0.0);
+    // The written volume's slices, facing the camera and across, both measured.
+    for (const char* which : {"slices", "slices_across"}) {
+        CHECK(report["structure"][which]["distance"].get<double>() >= 0.0);
+        CHECK(report["structure"][which]["strength"].get<double>() >= 0.0);
+    }
     // fit.csv: the three fits' rows in the order they ran, iterations and
     // seconds running on, none of the first fit's at the ceiling.
     const auto rows = csv_rows(dir.file("out/fit.csv"));

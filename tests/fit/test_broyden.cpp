@@ -87,6 +87,29 @@ TEST_CASE("broyden: each row learns only from a step that moved its own residual
     CHECK(k.m[0][1] * 3.0 == Approx(10.0));
 }
 
+TEST_CASE("broyden: each row has its own noise: a step A's standard error says is plain teaches the A row alone",
+          "[fitter][broyden]") {
+    // Onyx010's cow swept (--structure exemplar), blue, at 128 spp where A's
+    // standard error is 0.07 levels: J had learned dA/dg = 13.2 on a long
+    // step; the next step (k_s +0.017, g −0.13) was expected to move A by
+    // 17.5·0.017 + 13.2·(−0.13) = −1.42 levels and moved it by +0.47, and
+    // S (expected −0.1, observed −0.5) by less than its noise.
+    BroydenJacobian2 j;
+    j.m = {{{17.542, 13.244}, {-42.659, 4.847}}};
+    const std::array<double, 2> dx{0.0173, -0.1305}, df{0.472, -0.537};
+    // With one 2-level bound for both rows nothing is learned ...
+    BroydenJacobian2 blind = j;
+    CHECK_FALSE(blind.update(dx, df, 2.0));
+    // ... with A's own (four standard errors of the change, at least 0.5)
+    // the A row meets the secant condition and dA/dg falls to about a third;
+    // the S row stays.
+    REQUIRE(j.update(dx, df, {0.5, 2.0}));
+    CHECK(j.m[0][0] * dx[0] + j.m[0][1] * dx[1] == Approx(df[0]));
+    CHECK(j.m[0][1] < 5.0);
+    CHECK(j.m[1][0] == -42.659);
+    CHECK(j.m[1][1] == 4.847);
+}
+
 TEST_CASE("broyden: Newton steps with the updated Jacobian solve a coupled system that the diagonal alone does not",
           "[fitter][broyden]") {
     // The root of `coupled`, by bisection-free Newton with the exact Jacobian.

@@ -139,6 +139,22 @@ TEST_CASE("a volume swept from the photo has the photo's structure in its slices
     const TextureSpectrum target = texture_spectrum(photo_luma(photo), 96.0);
     CHECK(from_photo.coherence == Approx(target.coherence).margin(0.05));
     CHECK(from_photo.strength == Approx(target.strength).margin(0.05));
+    // Across them (normal to x and to y) the sweep's slices are the photo's
+    // rows and columns drawn out in depth: stripes, further from the photo
+    // than the slices facing the camera by far, and more strongly oriented
+    // than even these folded layers. The fBm, isotropic, looks alike
+    // whichever way it is cut.
+    const StructureFit across_photo = measure_slice_structure_across(volume.levels, 96, photo);
+    const StructureFit across_fbm = measure_slice_structure_across(fbm.levels, 96, photo);
+    UNSCOPED_INFO("photo strength " << target.strength << " coherence " << target.coherence << "; across the sweep "
+                  << across_photo.distance << ", " << across_photo.strength << ", " << across_photo.coherence
+                  << "; fBm facing " << from_fbm.distance << ", " << from_fbm.strength << " across "
+                  << across_fbm.distance << ", " << across_fbm.strength);
+    CHECK(across_photo.distance > 0.15);
+    CHECK(across_photo.distance > 4.0 * from_photo.distance);
+    CHECK(across_photo.strength > target.strength + 0.1);
+    CHECK(across_fbm.strength == Approx(from_fbm.strength).margin(0.15));
+    CHECK(across_fbm.distance == Approx(from_fbm.distance).epsilon(0.3));
     // Every slice holds the photo's histogram (colour matching, §4.2).
     const std::size_t m = 96 * 96;
     std::array<int, 256> in_photo{}, in_slice{};

@@ -122,6 +122,9 @@ struct PipelineResult {
     // The written volume's own slices against the photo, whatever made them
     // (measure_slice_structure; its noise is not set).
     StructureFit slices;
+    // Its slices across those (normal to x and to y; measure_slice_structure_across):
+    // what a side view or a vase's shoulders show.
+    StructureFit slices_across;
     RenderResult final_render;
     Appearance final_look;            // the final render against the photo (fit/appearance.h)
     std::optional<MaterialAppearance> material;  // with measure_material

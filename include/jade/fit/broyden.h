@@ -8,7 +8,7 @@
 //
 // The residuals come from Monte Carlo renders, so the update is guarded:
 //   - each row learns only from a step that moved its residual, expected
-//     (J·dx) or observed, by at least `min_change` (in units of the
+//     (J·dx) or observed, by at least its `min_change` (in units of the
 //     residuals): a smaller change is mostly noise. Per row, not for the
 //     step as a whole: a step that moves A by several levels through k_s
 //     and S by less than the noise through g teaches the A row and would
@@ -39,7 +39,13 @@ struct BroydenJacobian2 {
     // each unknown by its own diagonal (a unit in either is one unit of its
     // own residual), so the unknowns' units do not matter. Returns whether J
     // changed (either row).
-    bool update(const std::array<double, 2>& dx, const std::array<double, 2>& df, double min_change);
+    // `min_change` per row: each residual's own noise sets how large a change
+    // says something.
+    bool update(const std::array<double, 2>& dx, const std::array<double, 2>& df,
+                const std::array<double, 2>& min_change);
+    bool update(const std::array<double, 2>& dx, const std::array<double, 2>& df, double min_change) {
+        return update(dx, df, {min_change, min_change});
+    }
 };
 
 }  // namespace jade

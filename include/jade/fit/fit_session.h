@@ -300,7 +300,7 @@ private:
     bool raise_spread_spp(ContrastSearch& search);
     std::string hidden_spread_warning(int c, const QuietBlock& q, double g, const SpreadReading& r, int spp) const;
     void finish_contrast(const ContrastSearch& search);
-    void contrast_step(ContrastSearch& search, int channel, double delta, double s);
+    void contrast_step(ContrastSearch& search, int channel, double delta, double s, double a_sigma);
     bool raise_density_scale(ContrastSearch& search, const std::array<double, 3>& s_photo);
     void measure_density_exponent(ContrastSearch& search) const;
     double spread_elasticity(int channel, double g) const;

@@ -56,6 +56,13 @@ StructureFit evaluate_structure(const NoiseParams& noise, const Photo& photo);
 // show, sharpened or swept from the photo (volume/exemplar.h), which the
 // noise's parameters alone do not say. The result's `noise` is left default.
 StructureFit measure_slice_structure(const std::vector<Rgb8>& levels, int resolution, const Photo& photo);
+// The same measures of the slices across those, which no camera facing the
+// cube squarely sees face on but a vase's shoulders, a side view or a
+// Blender render from elsewhere do: normal to x and normal to y, each a
+// quarter and three quarters deep, averaged (its orientation is left 0: it
+// has no one frame). A structure made for the view along z (the sweep,
+// volume/exemplar.h) can be far from the photo here.
+StructureFit measure_slice_structure_across(const std::vector<Rgb8>& levels, int resolution, const Photo& photo);
 
 // The noise of a StructureFit is in the cube's frame (cycles per cube side);
 // its measures compare slices at the photo's own scale, the noise magnified
