@@ -1039,14 +1039,7 @@ void FitSession::contrast_step(ContrastSearch& st, int c, double delta, double s
                    {residual[0] - st.residual_prev[c][0], residual[1] - st.residual_prev[c][1]},
                    {a_min, kJacobianMinChange});
     } else if (!(jac.m[1][1] > 0.0)) {
-        // S grows as the contrasted levels' spread does: in proportion to g
-        // while no voxel clips (dS/dg = S/g), less as the contrast clips
-        // them (spread_elasticity), except where S is the rounding of a flat
-        // material (under kSpreadScatterFloor's level): a slope of 10⁻⁷
-        // there sent g to a quarter at every step on a one-colour photo,
-        // whose contrast moves nothing.
-        jac.m[1][1] = s * s > kSpreadScatterFloor && g > 0.0 ? s / g * spread_elasticity(c, g)
-                                                             : std::max(s_photo, 1.0);
+        jac.m[1][1] = first_spread_slope(s, g, spread_elasticity(c, g), s_photo);
     }
     st.k_prev[c] = st.k[c];
     st.g_prev[c] = g;
@@ -1146,6 +1139,22 @@ FitStart start_from(const FitOutcome& fit) {
     start.spread_spp = fit.spread_spp;
     start.estimated_error = fit.estimated_error;
     return start;
+}
+
+double first_spread_slope(double s, double g, double elasticity, double s_photo) {
+    // S grows as the contrasted levels' spread does: in proportion to g
+    // while no voxel clips (dS/dg = S/g), less as the contrast clips them
+    // (the elasticity), except where S is the rounding of a flat material
+    // (under kSpreadScatterFloor's level): a slope of 10⁻⁷ there sent g to a
+    // quarter at every step on a one-colour photo, whose contrast moves
+    // nothing. And at least the slope that brings the photo's S at the
+    // contrast ceiling: a stone washed out by k_s (S a small share of the
+    // photo's) spreads faster than in proportion as g rises and k_s falls
+    // to hold A, and on a slope of S/g the first step's Broyden update,
+    // weighing each lever by its own slope, put the whole of A's change on
+    // k_s.
+    const double proportional = s * s > kSpreadScatterFloor && g > 0.0 ? s / g * elasticity : std::max(s_photo, 1.0);
+    return std::max(proportional, s_photo / kContrastCeiling);
 }
 
 bool at_density_ceiling(double density_scale, double density_scale_max) {

@@ -514,6 +514,22 @@ TEST_CASE("material block: the side over which a render's noise averages to 0.1"
     CHECK(material_block(3.0) == 8);
 }
 
+TEST_CASE("contrast fit: the first dS/dg, in proportion to g unless that would not reach the photo's S by the ceiling",
+          "[fitter][contrast]") {
+    // S = 6 at g = 1 against the photo's 14: 6·g reaches 14 by g = 2.3,
+    // under the ceiling of 4, so S/g (times the clipping's elasticity) stands.
+    CHECK(jade::first_spread_slope(6.0, 1.0, 1.0, 14.0) == Approx(6.0));
+    CHECK(jade::first_spread_slope(12.0, 2.0, 0.8, 14.0) == Approx(4.8));
+    // The sweep's demo, red, at g = 1: S 0.19 against the photo's 12.6 (a
+    // stone washed out by k_s). 0.19·g would not reach 12.6 by g = 66; the
+    // slope is the one that reaches it at the ceiling, 12.6 / 4, where the
+    // next step measured about 3.2.
+    CHECK(jade::first_spread_slope(0.19, 1.0, 1.0, 12.6) == Approx(12.6 / 4.0));
+    // A flat material (S the rounding of one colour): the photo's S, at least 1.
+    CHECK(jade::first_spread_slope(0.05, 1.0, 1.0, 0.3) == Approx(1.0));
+    CHECK(jade::first_spread_slope(0.05, 1.0, 1.0, 6.0) == Approx(6.0));
+}
+
 TEST_CASE("contrast fit: where the contrast would clip many voxels, the density scale rises instead",
           "[fitter][contrast][fit-session]") {
     test::FitTestScene t(test::ramp_photo(40, 190, 20), 32);

@@ -391,4 +391,12 @@ bool stopped_for_sharper_stone(const FitOutcome& fit);
 // ceiling would be smaller than the least worth taking.
 bool at_density_ceiling(double density_scale, double density_scale_max);
 
+// The first dS/dg of a channel's --fit contrast search, at contrast g
+// where S_material reads s and the photo's S is s_photo: S/g times the
+// contrasted levels' elasticity (S grows in proportion to g while no voxel
+// clips), s_photo (at least 1) where s is the rounding of a flat material,
+// and in either case at least the slope that brings s_photo at the
+// contrast ceiling (docs/design.md, "Contrast").
+double first_spread_slope(double s, double g, double elasticity, double s_photo);
+
 }  // namespace jade
