@@ -162,6 +162,7 @@ std::vector<Column> summary_columns() {
              {"S_render", "/appearance/S_render"}, {"D", "/appearance/D"}})
         for (int k = 0; k < 3; ++k) c.push_back({name + "_" + rgb[k], pointer + "/" + std::to_string(k)});
     c.insert(c.end(), {{"structure_distance", "/appearance/structure_distance"},
+                       {"structure_distance_error", "/appearance/structure_distance_error"},
                        {"final_error", "/final_render/estimated_relative_error"},
                        {"final_spp", "/final_render/spp"},
                        {"seconds", "/seconds/total"},

@@ -73,8 +73,11 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
     print_row("S material (photo below)", dm.s_material, pm.s_material, " %8.2f");
     print_row("S photo at the material's scale", dm.s_photo, pm.s_photo, " %8.2f");
     print_row(d_label, d_def, d_paper, " %8.4f");
-    std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, render", def.final_look.structure, "",
-                paper.final_look.structure);
+    // Each with its standard error from the render's noise: two renders'
+    // distances closer than two or three of it are the noise's draw.
+    std::printf("  %-34s  %8.3f ± %-6.3f %9s  %8.3f ± %.3f\n", "structure distance, render",
+                def.final_look.structure, def.final_look.structure_error, "", paper.final_look.structure,
+                paper.final_look.structure_error);
     // A band under a render's noise is the noise's draw: where most are, the
     // distance says that the render shows noise there, not how near its
     // structure is (docs/design.md, "Bands under the noise").
@@ -83,17 +86,19 @@ void print_table(const PipelineResult& def, const PipelineResult& paper) {
                 paper.final_look.render.measured_bands());
     std::printf("  %-34s  %8.3f %18s  %8.3f\n", "  the photo's stone, same shading", dm.structure_stone, "",
                 pm.structure_stone);
-    std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, material", dm.structure, "",
-                pm.structure);
+    std::printf("  %-34s  %8.3f ± %-6.3f %9s  %8.3f ± %.3f\n", "structure distance, material", dm.structure,
+                dm.structure_error, "", pm.structure, pm.structure_error);
     std::printf("  %-34s  %5d of %-2d %15s  %5d of %-2d\n", "  bands under the noise", dm.spectrum.bands_below_noise(),
                 dm.spectrum.measured_bands(), "", pm.spectrum.bands_below_noise(), pm.spectrum.measured_bands());
     // The two materials' blocks differ in size (each render's noise sets
     // its own), so each resolves bands the other does not: compared over
     // the bands both measure as well.
     const TextureSpectrum& photo = def.final_look.photo;
-    std::printf("  %-34s  %8.3f %18s  %8.3f\n", "  over the bands both measure",
-                structure_distance(common_bands(dm.spectrum, pm.spectrum), photo), "",
-                structure_distance(common_bands(pm.spectrum, dm.spectrum), photo));
+    const TextureSpectrum dm_common = common_bands(dm.spectrum, pm.spectrum),
+                          pm_common = common_bands(pm.spectrum, dm.spectrum);
+    std::printf("  %-34s  %8.3f ± %-6.3f %9s  %8.3f ± %.3f\n", "  over the bands both measure",
+                structure_distance(dm_common, photo), structure_distance_error(dm_common, photo), "",
+                structure_distance(pm_common, photo), structure_distance_error(pm_common, photo));
     // Each written volume's own slices (the paper's is its fBm, unsharpened).
     std::printf("  %-34s  %8.3f %18s  %8.3f\n", "structure distance, volume slice", def.slices.distance, "",
                 paper.slices.distance);

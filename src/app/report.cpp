@@ -29,7 +29,7 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
                              "S_photo_scaled", "S_material", "S_material_noise", "A_final_size"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",density_scale,structure,orientation_photo,orientation_render,strength_photo,strength_render,shading,"
+    s += ",density_scale,structure,structure_error,orientation_photo,orientation_render,strength_photo,strength_render,shading,"
          "from_final_size,sharpen\n";
     char buf[160];
     for (const FitRecord& r : rows) {
@@ -42,8 +42,8 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
                 std::snprintf(buf, sizeof buf, ",%.6g", v);
                 s += buf;
             }
-        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.4g,%.4g,%.4g,%.4g,%d,%d,%.6g\n", r.density_scale, r.structure,
-                      r.orientation_photo, r.orientation_render, r.strength_photo, r.strength_render,
+        std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.3g,%.4g,%.4g,%.4g,%.4g,%d,%d,%.6g\n", r.density_scale,
+                      r.structure, r.structure_error, r.orientation_photo, r.orientation_render, r.strength_photo, r.strength_render,
                       r.shading ? 1 : 0, r.from_final_size ? 1 : 0, r.sharpen);
         s += buf;
     }
@@ -152,6 +152,7 @@ nlohmann::json appearance_json(const Appearance& look) {
             {"S_render", look.s_render},
             {"D", look.d},
             {"structure_distance", look.structure},
+            {"structure_distance_error", look.structure_error},
             {"photo_orientation", look.photo.orientation},
             {"photo_strength", look.photo.strength},
             {"photo_coherence", look.photo.coherence},
@@ -280,7 +281,7 @@ nlohmann::json brightness_check_json(const BrightnessCheck& b) {
 nlohmann::json material_json(const MaterialAppearance& m) {
     return {{"S_material", m.s_material}, {"S_material_noise", m.s_noise}, {"S_photo", m.s_photo},
             {"D", m.d}, {"D_stone_shaded", m.d_stone}, {"D_least_any_material", m.d_least}, {"structure_distance", m.structure},
-            {"structure_distance_stone_shaded", m.structure_stone}, {"spectrum", spectrum_json(m.spectrum)},
+            {"structure_distance_error", m.structure_error}, {"structure_distance_stone_shaded", m.structure_stone}, {"spectrum", spectrum_json(m.spectrum)},
             {"block_pixels", m.block}, {"blocks", m.blocks}, {"D_block_pixels", m.d_block},
             {"D_by_block", m.d_by_block}, {"D_noise", m.d_noise}, {"D_photo_spread", m.d_photo_spread}};
 }
@@ -467,14 +468,15 @@ void print_render_summary(const PipelineResult& r) {
     std::printf("\n");
     const Appearance& look = r.final_look;
     std::printf("final render against the photo: A (%.1f, %.1f, %.1f) / (%.1f, %.1f, %.1f), S (%.1f, %.1f, %.1f) / "
-                "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f%s\n",
+                "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f), structure distance %.3f ± %.3f%s\n",
                 look.a_render[0], look.a_render[1], look.a_render[2], look.a_photo[0], look.a_photo[1], look.a_photo[2],
                 look.s_render[0], look.s_render[1], look.s_render[2], look.s_photo[0], look.s_photo[1],
-                look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure, under_noise(look.render).c_str());
+                look.s_photo[2], look.d[0], look.d[1], look.d[2], look.structure, look.structure_error,
+                under_noise(look.render).c_str());
     if (r.material)
         std::printf("material against the photo (shading divided out, %d px blocks): S (%.1f, %.1f, %.1f) / "
                     "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f) over %d px blocks (noise %.1f, %.1f, %.1f levels; "
-                    "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f%s; its two renders and the comparison %.1f s; "
+                    "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f ± %.3f%s; its two renders and the comparison %.1f s; "
                     "the photo's own stone under the render's shading: D (%.4f, %.4f, %.4f), structure distance "
                     "%.3f; the least D of any material under it (%.4f, %.4f, %.4f)\n",
                     r.material->block, r.material->s_material[0], r.material->s_material[1],
@@ -482,7 +484,8 @@ void print_render_summary(const PipelineResult& r) {
                     r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2], r.material->d_block,
                     r.material->d_noise[0], r.material->d_noise[1], r.material->d_noise[2],
                     r.material->d_photo_spread[0], r.material->d_photo_spread[1], r.material->d_photo_spread[2],
-                    r.material->structure, under_noise(r.material->spectrum).c_str(), r.seconds_measure,
+                    r.material->structure, r.material->structure_error, under_noise(r.material->spectrum).c_str(),
+                    r.seconds_measure,
                     r.material->d_stone[0], r.material->d_stone[1],
                     r.material->d_stone[2], r.material->structure_stone, r.material->d_least[0],
                     r.material->d_least[1], r.material->d_least[2]);

@@ -109,7 +109,9 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
     m.spectrum = texture_cross_spectrum(photo_luma(flat_render(render.first, shading.first, exposure, m.block)),
                                         photo_luma(flat_render(render.second, shading.second, exposure, m.block)),
                                         blocks_per_side);
-    m.structure = structure_distance(m.spectrum, photo_spectrum(photo));
+    const TextureSpectrum scan_spectrum = photo_spectrum(photo);
+    m.structure = structure_distance(m.spectrum, scan_spectrum);
+    m.structure_error = structure_distance_error(m.spectrum, scan_spectrum);
     choose_d_block(m, photo, render, shading, exposure, render_pixels_per_side);
     const RgbHistogram stone = RgbHistogram::of(
         shaded_photo(photo, shading.merged(), exposure, render_pixels_per_side).foreground_levels());
@@ -118,7 +120,7 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
         texture_cross_spectrum(photo_luma(shaded_photo(photo, shading.first, exposure, render_pixels_per_side)),
                                photo_luma(shaded_photo(photo, shading.second, exposure, render_pixels_per_side)),
                                render_pixels_per_side),
-        photo_spectrum(photo));
+        scan_spectrum);
     m.d_least = least_material_distance(photo, shading.merged(), exposure);
     for (int c = 0; c < 3; ++c) {
         m.s_material[c] = spread.s[c];
@@ -150,6 +152,7 @@ Appearance compare_appearance(const RgbHistogram& photo_histogram, const Texture
                    ? texture_cross_spectrum(render.luma_halves[0], render.luma_halves[1], pixels_per_side)
                    : texture_spectrum(render.luma, pixels_per_side, render.luma_noise_variance);
     a.structure = structure_distance(a.render, a.photo);
+    a.structure_error = structure_distance_error(a.render, a.photo);
     return a;
 }
 

@@ -106,7 +106,7 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
               sw = width_at(slice.width, slice.height);
     const int plot_height = 170;
     RgbImage8 img;
-    const int legend_width = 150;
+    const int legend_width = 170;  // "structure 0.00+-0.00" in 13-px DejaVu Sans Mono
     img.width = std::max(pw + rw + sw + 2 * kGap, 3 * (256 + kGap) + legend_width);
     img.height = panel + kCaption + plot_height;
     img.pixels.assign(std::size_t(img.width) * img.height * 3, kBackground[0]);
@@ -148,7 +148,7 @@ RgbImage8 compare_image(const ComparePanels& p, int panel) {
     const TextureSpectrum &ps = p.look.photo, &rs = p.look.render;
     char line[48];
     if (p.look.structure >= 0.0)
-        std::snprintf(line, sizeof line, "structure %.2f", p.look.structure);
+        std::snprintf(line, sizeof line, "structure %.2f+-%.2f", p.look.structure, p.look.structure_error);
     else
         std::snprintf(line, sizeof line, "structure none");
     draw_text(img, lx, ly + 6 * (kTextSize + 4), line, kTextSize, kText);

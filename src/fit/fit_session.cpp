@@ -257,6 +257,7 @@ FitRecord& FitSession::record(const std::array<double, 3>& ks, const std::array<
         rec.at_white[c] = st.histogram.proportion(c, 255);
     }
     rec.structure = look.structure;
+    rec.structure_error = look.structure_error;
     rec.orientation_photo = look.photo.orientation;
     rec.orientation_render = look.render.orientation;
     rec.strength_photo = look.photo.strength;

@@ -2,6 +2,7 @@
 
 #include "jade/core/error.h"
 #include "jade/core/math.h"
+#include "jade/core/random.h"
 
 #include <opencv2/core.hpp>
 
@@ -268,13 +269,18 @@ TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, d
     return out;
 }
 
-double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
+namespace {
+
+using Shares = std::array<double, TextureSpectrum::kBands>;
+
+// structure_distance over two arrays of band shares (< 0: not measured).
+double distance_of_shares(const Shares& a, const Shares& b) {
     double sa = 0.0, sb = 0.0;
     int common = 0;
     for (int i = 0; i < TextureSpectrum::kBands; ++i)
-        if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
-            sa += a.power[i];
-            sb += b.power[i];
+        if (a[i] >= 0.0 && b[i] >= 0.0) {
+            sa += a[i];
+            sb += b[i];
             ++common;
         }
     if (common < 2 || !(sa > 0.0) || !(sb > 0.0)) return -1.0;
@@ -283,12 +289,49 @@ double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
     constexpr double kFloor = 1e-6;
     double sq = 0.0;
     for (int i = 0; i < TextureSpectrum::kBands; ++i)
-        if (a.power[i] >= 0.0 && b.power[i] >= 0.0) {
-            const double d = std::log10(std::max(a.power[i] / sa, kFloor)) -
-                             std::log10(std::max(b.power[i] / sb, kFloor));
+        if (a[i] >= 0.0 && b[i] >= 0.0) {
+            const double d = std::log10(std::max(a[i] / sa, kFloor)) - std::log10(std::max(b[i] / sb, kFloor));
             sq += d * d;
         }
     return std::sqrt(sq / common);
+}
+
+// One draw of a spectrum's shares: each measured band moved by its standard
+// error times a standard normal (Box–Muller), and held at 0 from below as a
+// measured band is.
+Shares redrawn(const TextureSpectrum& s, SplitMix64& rng) {
+    Shares out = s.power;
+    for (int b = 0; b < TextureSpectrum::kBands; ++b) {
+        if (s.power[b] < 0.0 || !(s.error[b] > 0.0)) continue;
+        const double u1 = 1.0 - rng.uniform(), u2 = rng.uniform();
+        const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+        out[b] = std::max(0.0, s.power[b] + s.error[b] * z);
+    }
+    return out;
+}
+
+}  // namespace
+
+double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b) {
+    return distance_of_shares(a.power, b.power);
+}
+
+double structure_distance_error(const TextureSpectrum& a, const TextureSpectrum& b) {
+    if (distance_of_shares(a.power, b.power) < 0.0) return 0.0;
+    // A fixed stream: the same spectra always state the same error.
+    SplitMix64 rng(0x5EC7'5A11'D157'A4CEull);
+    double sum = 0.0, sum_sq = 0.0;
+    int n = 0;
+    for (int i = 0; i < kStructureErrorDraws; ++i) {
+        const double d = distance_of_shares(redrawn(a, rng), redrawn(b, rng));
+        if (d < 0.0) continue;  // every band of a draw at 0: no distance to take
+        sum += d;
+        sum_sq += d * d;
+        ++n;
+    }
+    if (n < 2) return 0.0;
+    const double mean = sum / n;
+    return std::sqrt(std::max(0.0, (sum_sq - n * mean * mean) / (n - 1)));
 }
 
 TextureSpectrum common_bands(const TextureSpectrum& s, const TextureSpectrum& other) {

@@ -80,7 +80,8 @@ TEST_CASE("the summary gathers every report.json, and says which are missing", "
     std::ofstream(dir.file("a/report.json")) << R"({"fit": {"converged": true, "method": "contrast", "renders": 7,
         "exposure": 2.5, "ks": [1.5, 2, 2.25], "contrast": [1, 1.25, 3]},
         "appearance": {"A_photo": [180, 140, 100], "A_render": [181, 139, 101], "S_photo": [14, 19, 23],
-                       "S_render": [15, 18, 24], "D": [0.01, 0.02, 0.03], "structure_distance": 0.25},
+                       "S_render": [15, 18, 24], "D": [0.01, 0.02, 0.03], "structure_distance": 0.25,
+                       "structure_distance_error": 0.0625},
         "final_render": {"estimated_relative_error": 0.125, "spp": 256}, "seconds": {"total": 61.5},
         "peak_memory_bytes": 1000})";
     std::ofstream(dir.file("c/report.json")) << "{ cut short";
@@ -91,7 +92,7 @@ TEST_CASE("the summary gathers every report.json, and says which are missing", "
     const std::string csv = slurp(dir.file("summary.csv"));
     CHECK_THAT(csv, Catch::StartsWith("index,photo,mesh,out,status,converged,fit,renders,exposure,ks_r,ks_g,ks_b,"));
     CHECK_THAT(csv, Catch::Contains(",done,1,contrast,7,2.5,1.5,2,2.25,1,1.25,3,180,140,100,181,139,101,14,19,23,15,18,"
-                                    "24,0.01,0.02,0.03,0.25,0.125,256,61.5,1000\n"));
+                                    "24,0.01,0.02,0.03,0.25,0.0625,0.125,256,61.5,1000\n"));
     CHECK_THAT(csv, Catch::Contains(dir.file("b") + ",missing,"));
     CHECK_THAT(csv, Catch::Contains(dir.file("c") + ",unreadable,"));
 

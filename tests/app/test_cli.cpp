@@ -891,6 +891,13 @@ TEST_CASE("pipeline: where the first fit reaches the density scale's ceiling, it
     }
     CHECK(csv_field(rows.back(), rows[0], "orientation_photo") ==
           Approx(report["appearance"]["photo_orientation"].get<double>()).epsilon(1e-3));
+    // The final render's structure distance with its standard error, in
+    // report.json and on the console.
+    char structure[96];
+    std::snprintf(structure, sizeof structure, "structure distance %.3f ± %.3f",
+                  report["appearance"]["structure_distance"].get<double>(),
+                  report["appearance"]["structure_distance_error"].get<double>());
+    CHECK_THAT(r.out, Catch::Contains(structure));
     const int renders = stopped["renders"].get<int>() + sharper["renders"].get<int>() + resumed["renders"].get<int>();
     CHECK_THAT(r.out, Catch::Contains("fit (contrast): " + std::to_string(renders) + " renders"));
     char density[64];

@@ -50,9 +50,12 @@ TEST_CASE("fit.csv: A at the final size beside the fitting render's own A, -1 wh
     CHECK(value(a, "iteration") == 3.0);
 }
 
-TEST_CASE("fit.csv: the dominant orientation and its strength of the photo and of the render, on every row",
+TEST_CASE("fit.csv: the structure distance and its error, the dominant orientation and its strength of the photo "
+          "and of the render, on every row",
           "[report]") {
     FitRecord r;
+    r.structure = 0.61;
+    r.structure_error = 0.045;
     r.orientation_photo = 5.9;
     r.orientation_render = 135.3;
     r.strength_photo = 0.18;
@@ -64,8 +67,9 @@ TEST_CASE("fit.csv: the dominant orientation and its strength of the photo and o
     const std::vector<std::string> names = fields(header), values = fields(row);
     REQUIRE(values.size() == names.size());
     std::vector<double> found;
-    for (const char* name : {"orientation_photo", "orientation_render", "strength_photo", "strength_render"})
+    for (const char* name :
+         {"structure", "structure_error", "orientation_photo", "orientation_render", "strength_photo", "strength_render"})
         for (std::size_t i = 0; i < names.size(); ++i)
             if (names[i] == name) found.push_back(std::stod(values[i]));
-    CHECK(found == std::vector<double>{5.9, 135.3, 0.18, 0.28});
+    CHECK(found == std::vector<double>{0.61, 0.045, 5.9, 135.3, 0.18, 0.28});
 }

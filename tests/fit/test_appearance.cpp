@@ -90,6 +90,9 @@ TEST_CASE("render structure: measured on what two halves of the samples share", 
         const double floored_distance = structure_distance(floored, truth);
         INFO("halves " << look.structure << ", subtracted floor " << floored_distance);
         CHECK(look.structure < 0.1);
+        // Its standard error from the halves' noise, which the bands state.
+        CHECK(look.structure_error > 0.0);
+        CHECK(look.structure_error == structure_distance_error(look.render, truth));
         CHECK(floored.below_noise[11]);
         CHECK(floored_distance > 0.5);
         for (int b = 2; b <= 11; ++b) CHECK(look.render.power[b] > 0.0);

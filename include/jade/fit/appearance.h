@@ -20,6 +20,7 @@ struct Appearance {
     std::array<double, 3> a_photo{}, a_render{}, s_photo{}, s_render{}, d{};
     TextureSpectrum photo, render;
     double structure = -1.0;   // structure_distance(render, photo); < 0 when they share too few bands
+    double structure_error = 0.0;  // its standard error from the render's noise (structure_distance_error)
 };
 
 // Render pixels per cube side where the object stands: the cube side over one
@@ -164,6 +165,7 @@ struct MaterialAppearance {
     double structure_stone = -1.0;
     TextureSpectrum spectrum;   // of the flattened blocks' luma, noise taken out
     double structure = -1.0;    // structure_distance(spectrum, the photo's)
+    double structure_error = 0.0;  // its standard error from the render's noise
     int block = 1;              // render pixels per block side
     std::size_t blocks = 0;     // render blocks in the histogram
 };

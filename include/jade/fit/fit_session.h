@@ -145,6 +145,7 @@ struct FitRecord {
     // a_final_size); -1 where none was made.
     std::array<double, 3> noise_clipped{-1, -1, -1};
     double structure = -1.0;                       // structure distance render → photo
+    double structure_error = 0.0;                  // its standard error from the render's noise
     // The dominant orientation (degrees from the image's horizontal, in
     // [0, 180)) and its strength (0 isotropic to 1), of the photo and of the
     // render's object pixels (TextureSpectrum::orientation, strength).

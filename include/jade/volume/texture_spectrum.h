@@ -93,6 +93,18 @@ TextureSpectrum texture_cross_spectrum(const GrayImage& a, const GrayImage& b, d
 // distance moves with the noise's draw.
 double structure_distance(const TextureSpectrum& a, const TextureSpectrum& b);
 
+// The standard error of structure_distance(a, b) from the spectra's noise:
+// the standard deviation of the distance over kStructureErrorDraws draws of
+// both spectra, each measured band's share moved by its standard error times
+// a standard normal (held at 0 from below, as a measured share is), from a
+// fixed stream. 0 for spectra without noise (a photo, a volume slice). Two
+// renders of one scene with other seeds differ by about √2 times it: a
+// difference of distances under two or three of it is the noise's draw
+// (docs/design.md, "Appearance": the distance's error).
+double structure_distance_error(const TextureSpectrum& a, const TextureSpectrum& b);
+// Enough that the error is known to about 3 %, in well under a millisecond.
+constexpr int kStructureErrorDraws = 512;
+
 // `s` measured only in the bands `other` measures too: two spectra held
 // against a third over the same bands, whatever each image could resolve.
 TextureSpectrum common_bands(const TextureSpectrum& s, const TextureSpectrum& other);
