@@ -280,7 +280,8 @@ nlohmann::json brightness_check_json(const BrightnessCheck& b) {
 // The material with the shading divided out (fit/appearance.h).
 nlohmann::json material_json(const MaterialAppearance& m) {
     return {{"S_material", m.s_material}, {"S_material_noise", m.s_noise}, {"S_photo", m.s_photo},
-            {"D", m.d}, {"D_stone_shaded", m.d_stone}, {"D_least_any_material", m.d_least}, {"structure_distance", m.structure},
+            {"D", m.d}, {"D_stone_shaded", m.d_stone}, {"D_least_any_material", m.d_least},
+            {"D_least_as_near_material", m.d_least_as_near}, {"structure_distance", m.structure},
             {"structure_distance_error", m.structure_error}, {"structure_distance_stone_shaded", m.structure_stone}, {"spectrum", spectrum_json(m.spectrum)},
             {"block_pixels", m.block}, {"blocks", m.blocks}, {"D_block_pixels", m.d_block},
             {"D_by_block", m.d_by_block}, {"D_noise", m.d_noise}, {"D_photo_spread", m.d_photo_spread}};
@@ -478,7 +479,8 @@ void print_render_summary(const PipelineResult& r) {
                     "(%.1f, %.1f, %.1f), D (%.4f, %.4f, %.4f) over %d px blocks (noise %.1f, %.1f, %.1f levels; "
                     "the photo's spread there %.1f, %.1f, %.1f), structure distance %.3f ± %.3f%s; its two renders and the comparison %.1f s; "
                     "the photo's own stone under the render's shading: D (%.4f, %.4f, %.4f), structure distance "
-                    "%.3f; the least D of any material under it (%.4f, %.4f, %.4f)\n",
+                    "%.3f; the least D of any material under it (%.4f, %.4f, %.4f), of any as like the stone as this one "
+                    "(%.4f, %.4f, %.4f)\n",
                     r.material->block, r.material->s_material[0], r.material->s_material[1],
                     r.material->s_material[2], r.material->s_photo[0], r.material->s_photo[1],
                     r.material->s_photo[2], r.material->d[0], r.material->d[1], r.material->d[2], r.material->d_block,
@@ -488,7 +490,8 @@ void print_render_summary(const PipelineResult& r) {
                     r.seconds_measure,
                     r.material->d_stone[0], r.material->d_stone[1],
                     r.material->d_stone[2], r.material->structure_stone, r.material->d_least[0],
-                    r.material->d_least[1], r.material->d_least[2]);
+                    r.material->d_least[1], r.material->d_least[2], r.material->d_least_as_near[0],
+                    r.material->d_least_as_near[1], r.material->d_least_as_near[2]);
     if (r.structure_estimated)
         std::printf("structure from the photo%s in %.2f s: frequency %.2f, k %.2f, stretch %.2f, angle %.1f, "
                     "bands %.1f, warp %.2f%s; slice-to-photo structure distance %.3f (the paper's fBm: %.3f)\n",

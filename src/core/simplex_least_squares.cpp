@@ -294,4 +294,75 @@ SimplexFit simplex_least_squares(const std::vector<std::vector<double>>& columns
     return best;
 }
 
+namespace {
+
+double squared_distance(const std::vector<std::vector<double>>& columns, const std::vector<double>& target,
+                        const std::vector<double>& p) {
+    std::vector<double> r(target.size());
+    for (std::size_t i = 0; i < target.size(); ++i) r[i] = -target[i];
+    for (std::size_t j = 0; j < columns.size(); ++j)
+        if (p[j] != 0.0)
+            for (std::size_t i = 0; i < target.size(); ++i) r[i] += p[j] * columns[j][i];
+    return std::inner_product(r.begin(), r.end(), r.begin(), 0.0);
+}
+
+}  // namespace
+
+NearSimplexFit simplex_least_squares_near(const std::vector<std::vector<double>>& columns,
+                                          const std::vector<double>& target, const MixtureNear& near,
+                                          const MixtureMean& mean, double relative_gap, double absolute_gap,
+                                          int max_solves, int max_iterations) {
+    if (near.columns.size() != columns.size())
+        throw Error("internal: simplex_least_squares_near needs one second column per column");
+    for (const auto& c : near.columns)
+        if (c.size() != near.target.size())
+            throw Error("internal: simplex_least_squares_near: a second column's length is not its target's");
+    NearSimplexFit out;
+    out.value = std::numeric_limits<double>::infinity();
+    double best_lower = 0.0;
+    // Solves at λ; returns |M·p − g|² at the minimiser, and keeps both bounds.
+    auto take = [&](double lambda) {
+        const double w = std::sqrt(lambda);
+        std::vector<std::vector<double>> stacked(columns.size());
+        for (std::size_t j = 0; j < columns.size(); ++j) {
+            stacked[j] = columns[j];
+            for (double x : near.columns[j]) stacked[j].push_back(w * x);
+        }
+        std::vector<double> both = target;
+        for (double x : near.target) both.push_back(w * x);
+        ++out.solves;
+        // Each run to half the gap asked for, so that the two bounds can
+        // meet within it.
+        const SimplexFit fit =
+            simplex_least_squares(stacked, both, mean, 0.5 * relative_gap, 0.5 * absolute_gap, max_iterations);
+        best_lower = std::max(best_lower, fit.lower_bound - lambda * near.most);
+        const double second = squared_distance(near.columns, near.target, fit.weights);
+        // Under the ceiling to within the gap asked for: at a ceiling of 0
+        // (a material exactly the photo's) the second distance only
+        // approaches it as λ grows without bound.
+        if (second <= near.most + 0.5 * absolute_gap) {
+            const double f = squared_distance(columns, target, fit.weights);
+            if (f < out.value) out.value = f, out.weights = fit.weights, out.second = second, out.feasible = true;
+        }
+        return second;
+    };
+    auto close_enough = [&] {
+        return out.value - best_lower <= std::max(relative_gap * out.value, absolute_gap);
+    };
+    if (take(0.0) > near.most + 0.5 * absolute_gap) {
+        // The ceiling binds. λ = 1 weighs the two distances alike; up by
+        // fourfold steps until the minimiser is under the ceiling, then
+        // halve the bracket on log λ.
+        double lo = 0.0, hi = 1.0;
+        const double ceiling = near.most + 0.5 * absolute_gap;
+        while (out.solves < max_solves && take(hi) > ceiling) lo = hi, hi *= 4.0;
+        while (out.solves < max_solves && !close_enough()) {
+            const double mid = lo > 0.0 ? std::sqrt(lo * hi) : 0.25 * hi;
+            (take(mid) > ceiling ? lo : hi) = mid;
+        }
+    }
+    out.lower_bound = best_lower;
+    return out;
+}
+
 }  // namespace jade

@@ -128,6 +128,9 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
         m.s_photo[c] = scan.spread(c);
         m.d_stone[c] = stone.total ? histogram_distance(stone, photo_levels, c) : -1.0;
     }
+    // Against the photo's blocks that D_material was taken against.
+    m.d_least_as_near = least_material_distance_as_near(
+        photo, shading.merged(), exposure, m.d, photo_block_histogram(photo, render_pixels_per_side / m.d_block));
     return m;
 }
 

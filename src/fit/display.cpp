@@ -495,44 +495,84 @@ std::vector<double> scaled_histogram(const std::vector<double>& sorted, double a
 
 namespace {
 
-// One channel of least_material_distance: `v` the shading's object values,
-// sorted; `target` the photo's histogram and `photo_mean` its A.
-double least_channel_distance(const std::vector<double>& v, const std::vector<double>& target, double photo_mean) {
+// The mixture's components under a shading: the histograms of a·v over a
+// log grid of multipliers a about 1 % apart, `v` the shading's object
+// values, sorted, and their mean levels, the mixture's mean held at the
+// photo's A, `photo_mean` (or the nearest A any multiplier reaches).
+struct MaterialColumns {
+    std::vector<std::vector<double>> histograms;
+    MixtureMean mean;
+};
+MaterialColumns material_columns(const std::vector<double>& v, double photo_mean) {
+    MaterialColumns out;
     const auto positive = std::upper_bound(v.begin(), v.end(), 0.0);
     // No light: every material shows black.
-    if (positive == v.end()) return simplex_least_squares({scaled_histogram(v, 1.0)}, target).value;
+    if (positive == v.end()) {
+        out.histograms.push_back(scaled_histogram(v, 1.0));
+        return out;
+    }
     // From every pixel at level 0 to every lit pixel at 255; beyond either
     // end the histogram no longer changes.
     const double lo = srgb_decode(0.5 / 255.0) / v.back(), hi = srgb_decode(254.5 / 255.0) / *positive;
     constexpr double kStep = 0.01;
     constexpr int kMostColumns = 2048;
     const int n = std::clamp(int(std::ceil(std::log(hi / lo) / std::log1p(kStep))) + 1, 2, kMostColumns);
-    std::vector<std::vector<double>> columns;
-    MixtureMean mean;
     for (int j = 0; j < n; ++j) {
-        columns.push_back(scaled_histogram(v, lo * std::pow(hi / lo, double(j) / double(n - 1))));
+        out.histograms.push_back(scaled_histogram(v, lo * std::pow(hi / lo, double(j) / double(n - 1))));
         double m = 0.0;
-        for (int l = 0; l < 256; ++l) m += l * columns.back()[std::size_t(l)];
-        mean.column_means.push_back(m);
+        for (int l = 0; l < 256; ++l) m += l * out.histograms.back()[std::size_t(l)];
+        out.mean.column_means.push_back(m);
     }
     // The render's A is the photo's, as the fit makes it; where unlit
     // pixels keep every material below it, the nearest A one reaches.
-    const auto [least, most] = std::minmax_element(mean.column_means.begin(), mean.column_means.end());
-    mean.mean = std::clamp(photo_mean, *least, *most);
-    // To 10⁻⁵ at least: D is reported to 10⁻⁴ (the demo's blue, D about
-    // 6·10⁻⁵, took 7660 iterations to 10⁻⁶ and 600 to 10⁻⁵).
-    constexpr double kRelativeGap = 1e-2, kAbsoluteGap = 1e-5;
-    return simplex_least_squares(columns, target, mean, kRelativeGap, kAbsoluteGap).lower_bound;
+    const auto [least, most] = std::minmax_element(out.mean.column_means.begin(), out.mean.column_means.end());
+    out.mean.mean = std::clamp(photo_mean, *least, *most);
+    return out;
 }
 
-}  // namespace
+// To 10⁻⁵ at least: D is reported to 10⁻⁴ (the demo's blue, D about 6·10⁻⁵,
+// took 7660 iterations to 10⁻⁶ and 600 to 10⁻⁵).
+constexpr double kLeastRelativeGap = 1e-2, kLeastAbsoluteGap = 1e-5;
 
-std::array<double, 3> least_material_distance(const Photo& photo, const Film& shading, float exposure) {
+// The histogram of one level `m`, fractional, its mass split between the
+// two levels either side.
+std::vector<double> level_histogram(double m) {
+    std::vector<double> h(256, 0.0);
+    const double x = std::clamp(m, 0.0, 255.0);
+    const int l = std::min(254, int(x));
+    h[std::size_t(l)] = double(l + 1) - x;
+    h[std::size_t(l) + 1] = x - double(l);
+    return h;
+}
+
+// One channel of least_material_distance: `v` the shading's object values,
+// sorted; `target` the photo's histogram and `photo_mean` its A. With
+// `material_most` ≥ 0, of the materials whose own histogram of levels is
+// within that D of `material_target` (a material's level: the one it shows on
+// average over the object, the column's mean level, as the flattened render
+// shows the material scaled to the render's A).
+double least_channel_distance(const std::vector<double>& v, const std::vector<double>& target, double photo_mean,
+                              double material_most, const std::vector<double>& material_target) {
+    const MaterialColumns c = material_columns(v, photo_mean);
+    if (c.mean.column_means.empty()) return simplex_least_squares(c.histograms, target).value;
+    if (material_most < 0.0)
+        return simplex_least_squares(c.histograms, target, c.mean, kLeastRelativeGap, kLeastAbsoluteGap).lower_bound;
+    MixtureNear near;
+    near.target = material_target;
+    near.most = material_most;
+    for (double m : c.mean.column_means) near.columns.push_back(level_histogram(m));
+    return simplex_least_squares_near(c.histograms, target, near, c.mean, kLeastRelativeGap, kLeastAbsoluteGap)
+        .lower_bound;
+}
+
+// least_channel_distance for each channel, in parallel (a second or a few each).
+std::array<double, 3> least_distances(const Photo& photo, const Film& shading, float exposure,
+                                      const std::array<double, 3>& material_most,
+                                      const RgbHistogram& material_photo) {
     std::array<double, 3> out{-1.0, -1.0, -1.0};
     const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
     if (!photo_levels.total) return out;
     const ImageF32 image = film_image(shading);
-    // The channels are independent fits, a second or two each: in parallel.
     tbb::parallel_for(0, 3, [&](int c) {
         const ObjectChannel f = object_channel(image, c, exposure);
         std::vector<double> v;
@@ -542,9 +582,27 @@ std::array<double, 3> least_material_distance(const Photo& photo, const Film& sh
         std::sort(v.begin(), v.end());
         std::vector<double> target(256);
         for (int l = 0; l < 256; ++l) target[std::size_t(l)] = photo_levels.proportion(c, l);
-        out[std::size_t(c)] = least_channel_distance(v, target, photo_levels.mean(c));
+        std::vector<double> material_target(256);
+        for (int l = 0; l < 256; ++l) material_target[std::size_t(l)] = material_photo.proportion(c, l);
+        out[std::size_t(c)] = least_channel_distance(v, target, photo_levels.mean(c), material_most[std::size_t(c)],
+                                                     material_target);
     });
     return out;
+}
+
+}  // namespace
+
+std::array<double, 3> least_material_distance(const Photo& photo, const Film& shading, float exposure) {
+    return least_distances(photo, shading, exposure, {-1.0, -1.0, -1.0}, {});
+}
+
+std::array<double, 3> least_material_distance_as_near(const Photo& photo, const Film& shading, float exposure,
+                                                      const std::array<double, 3>& material_d,
+                                                      const RgbHistogram& material_photo) {
+    for (double d : material_d)
+        if (!(d >= 0.0)) throw Error("internal: least_material_distance_as_near needs a material D of 0 or more");
+    if (!material_photo.total) throw Error("internal: least_material_distance_as_near needs the photo's histogram");
+    return least_distances(photo, shading, exposure, material_d, material_photo);
 }
 
 Spectrum photo_mean_linear(const Photo& photo) {

@@ -74,7 +74,8 @@ TEST_CASE("over-seeds summary: the default's, the stone's and the least's D agai
     const double green[3] = {0.002, 0.004, 0.003};
     for (int s = 0; s < 3; ++s) {
         const double p = 0.005 + 0.001 * s;
-        seeds.push_back({{0.6 * p, green[s], 0.001}, {p, 0.004, 0.010}, {0.8 * p, 0.003, 0.002}, {0.4 * p, 0.001, 0.0}});
+        seeds.push_back({{0.6 * p, green[s], 0.001}, {p, 0.004, 0.010}, {0.8 * p, 0.003, 0.002}, {0.4 * p, 0.001, 0.0},
+                         {0.5 * p, 0.002, 0.001}});
     }
     const std::string text = over_seeds_summary(seeds);
     CHECK(text.find("over 3 noise and render seeds") != std::string::npos);
@@ -87,7 +88,10 @@ TEST_CASE("over-seeds summary: the default's, the stone's and the least's D agai
     REQUIRE(stone != std::string::npos);
     REQUIRE(least != std::string::npos);
     CHECK(text.substr(stone, least - stone).find("0.80 +- 0.00  0.75 +- 0.00  0.20 +- 0.00") != std::string::npos);
-    CHECK(text.substr(least).find("0.40 +- 0.00  0.25 +- 0.00  0.00 +- 0.00") != std::string::npos);
+    const auto as_near = text.find("the least as like the stone as the default's");
+    REQUIRE(as_near != std::string::npos);
+    CHECK(text.substr(least, as_near - least).find("0.40 +- 0.00  0.25 +- 0.00  0.00 +- 0.00") != std::string::npos);
+    CHECK(text.substr(as_near).find("0.50 +- 0.00  0.50 +- 0.00  0.10 +- 0.00") != std::string::npos);
     // A seed without the least (no object pixel in its shading) is said so,
     // not averaged as a negative D.
     seeds[1].d_least = {-1.0, -1.0, -1.0};

@@ -215,3 +215,31 @@ TEST_CASE("simplex least squares: closed-form minima, and a bound below every mi
         CHECK(fit.value <= least);
     }
 }
+
+TEST_CASE("simplex least squares near: a second distance held under a ceiling", "[simplex]") {
+    // Three one-bin histograms at levels 0, 1 and 2, the mean held at 1:
+    // p itself is the mixture's histogram. Fit h = (0, 1, 0) while staying
+    // within √δ of g = (½, 0, ½): both lie on the simplex at mean 1, so the
+    // nearest point of the ball to h is on the segment from g to h, √δ from
+    // g, and min |p − h|² = (|h − g| − √δ)² = (√1.5 − √δ)².
+    const std::vector<std::vector<double>> k = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const std::vector<double> h = {0, 1, 0};
+    const MixtureMean mean{{0, 1, 2}, 1.0};
+    for (double delta : {0.5, 0.1, 1.0}) {
+        const double least = std::pow(std::sqrt(1.5) - std::sqrt(delta), 2.0);
+        const NearSimplexFit fit = simplex_least_squares_near(k, h, MixtureNear{k, {0.5, 0, 0.5}, delta}, mean, 1e-3, 1e-9);
+        INFO("delta " << delta << ": value " << fit.value << ", bound " << fit.lower_bound << ", least " << least
+                      << ", " << fit.solves << " runs");
+        REQUIRE(fit.feasible);
+        CHECK(fit.lower_bound <= least + 1e-9);
+        CHECK(fit.lower_bound >= least * (1.0 - 2e-3) - 1e-9);
+        CHECK(fit.value >= least - 1e-9);
+        CHECK(fit.value <= least * (1.0 + 2e-3) + 1e-9);
+        CHECK(fit.second <= delta);
+        CHECK(fit.weights[0] == Approx(fit.weights[2]).margin(1e-3));  // on the segment
+    }
+    // A ceiling the free fit is already under: one run, the free fit.
+    const NearSimplexFit loose = simplex_least_squares_near(k, h, MixtureNear{k, {0.5, 0, 0.5}, 2.0}, mean, 1e-3, 1e-9);
+    CHECK(loose.solves == 1);
+    CHECK(loose.value < 1e-6);
+}

@@ -219,6 +219,36 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
             CHECK(least[c] >= 0.99 * 0.375);
         }
     }
+    SECTION("the least D of a material as like the stone as a given one: two lights 10⁴ apart") {
+        // The case above: the least whole-render D, 3/8, takes a material
+        // nothing like the one-level stone (its levels, the mean each shows
+        // over the object, near 64 and 191). A material whose own histogram
+        // is within δ of the photo's holds p₁₂₈ ≥ 1 − √δ of its levels
+        // within one of 128, and those light the lit half at 255 and the
+        // dark half near 0, none at 128; the rest puts at most half its
+        // pixels there. So the render's mass at 128 is at most √δ/2, and
+        // D ≥ (1 − √δ/2)².
+        const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{128, 128, 128}; });
+        const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 1.0 : 1e-4; });
+        const std::array<double, 3> free = least_material_distance(photo, shading, 1.f);
+        const RgbHistogram levels = RgbHistogram::of(photo.foreground_levels());
+        const std::array<double, 3> loose = least_material_distance_as_near(photo, shading, 1.f, {2.0, 2.0, 2.0}, levels);
+        const std::array<double, 3> near = least_material_distance_as_near(photo, shading, 1.f, {0.05, 0.05, 0.05}, levels);
+        const std::array<double, 3> nearer = least_material_distance_as_near(photo, shading, 1.f, {0.01, 0.01, 0.01}, levels);
+        for (int c = 0; c < 3; ++c) {
+            INFO("channel " << c << ": free " << free[c] << ", δ 2: " << loose[c] << ", δ 0.05: " << near[c]
+                            << ", δ 0.01: " << nearer[c]);
+            // A ceiling above every material's D is none.
+            CHECK(loose[c] == Approx(free[c]).epsilon(0.02));
+            CHECK(near[c] >= 0.99 * std::pow(1.0 - std::sqrt(0.05) / 2.0, 2.0));
+            CHECK(nearer[c] >= 0.99 * std::pow(1.0 - std::sqrt(0.01) / 2.0, 2.0));
+            // Nor more than the one material at the photo's level: half
+            // the pixels at 255, half near 0, D = ¼ + ¼ + 1.
+            CHECK(near[c] <= 1.5 + 1e-9);
+            CHECK(nearer[c] <= 1.5 + 1e-9);
+            CHECK(nearer[c] >= near[c] - 1e-3);
+        }
+    }
     SECTION("half the object unlit: the photo's A out of reach, the nearest A instead") {
         // Unlit pixels stay at level 0 whatever the material, so the brightest
         // render (the lit half at 255) has A 127.5, below the photo's 250.

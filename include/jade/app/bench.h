@@ -126,7 +126,8 @@ SeedRatio ratio_over_seeds(const std::vector<std::array<double, 3>>& d_default,
 // least any material reaches (fit/appearance.h, MaterialAppearance::d_stone
 // and d_least; negative where not measured).
 struct SeedDistances {
-    std::array<double, 3> d_default{}, d_paper{}, d_stone{}, d_least{};
+    // d_least_as_near: of the materials as like the stone as the default's.
+    std::array<double, 3> d_default{}, d_paper{}, d_stone{}, d_least{}, d_least_as_near{};
 };
 // What `bench fidelity --seeds` ends with: per channel the default's D over
 // the paper's (ratio_over_seeds) and each seed's; then, over the same seeds,

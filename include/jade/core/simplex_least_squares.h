@@ -41,6 +41,46 @@ SimplexFit simplex_least_squares(const std::vector<std::vector<double>>& columns
                                  const MixtureMean& mean = {}, double relative_gap = 1e-2,
                                  double absolute_gap = 1e-6, int max_iterations = 20000);
 
+// A second least-squares distance the mixture must keep under a ceiling:
+// |M·p − g|² ≤ most, M's columns one per mixture component (each as long as
+// `target`). A ceiling on a convex function leaves a convex set, so the
+// problem stays convex.
+struct MixtureNear {
+    std::vector<std::vector<double>> columns;
+    std::vector<double> target;
+    double most = 0.0;
+};
+
+struct NearSimplexFit {
+    bool feasible = false;  // the solver found a mixture under the ceiling (to within half the absolute gap)
+    // The best such mixture found (`value` = |K·p − h|² of it: an upper
+    // bound on the least), and a certified lower bound: no mixture at the
+    // mean under the ceiling has |K·p − h|² below it. The bound holds
+    // whether or not a mixture under the ceiling was found (+∞ for value
+    // then).
+    std::vector<double> weights;
+    double value = 0.0, lower_bound = 0.0, second = 0.0;  // second: |M·p − g|² of weights
+    int solves = 0;         // simplex_least_squares runs
+};
+
+// min |K·p − h|² over the simplex, at the mean, with |M·p − g|² ≤ most, by
+// Lagrangian duality: for any λ ≥ 0 and any p under the ceiling,
+// |K·p − h|² ≥ |K·p − h|² + λ·(|M·p − g|² − most), and the right side's
+// least over the simplex is a least-squares fit of the stacked columns
+// [K; √λ·M] to [h; √λ·g], less λ·most: one run of the solver, whose
+// certified bound is a bound here. λ is bracketed by fourfold steps and
+// bisected on its logarithm (|M·p − g|² at the minimiser falls as λ grows;
+// a mixture counts as under the ceiling within half `absolute_gap`, since at
+// a ceiling of 0 the distance only approaches it as λ grows without bound)
+// until the best mixture under the ceiling and the best bound are within
+// `relative_gap` of the value or `absolute_gap`, or after `max_solves` runs
+// (of `max_iterations` each at most). Whenever it stops the bound holds.
+NearSimplexFit simplex_least_squares_near(const std::vector<std::vector<double>>& columns,
+                                          const std::vector<double>& target, const MixtureNear& near,
+                                          const MixtureMean& mean = {}, double relative_gap = 1e-2,
+                                          double absolute_gap = 1e-6, int max_solves = 16,
+                                          int max_iterations = 20000);
+
 // The Euclidean projection of `v` onto the probability simplex, in place.
 void project_to_simplex(std::vector<double>& v);
 

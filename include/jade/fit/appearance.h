@@ -159,6 +159,11 @@ struct MaterialAppearance {
     // shading (fit/display.h, least_material_distance): below the stone's,
     // and a bound on every material whose levels do not follow the light.
     std::array<double, 3> d_least{};
+    // And of the materials as like the photo's stone as this one: their
+    // own histogram within `d` (D_material) of the photo's
+    // (least_material_distance_as_near). Where it is above the whole
+    // render's goal, only a material less like the stone reaches the goal.
+    std::array<double, 3> d_least_as_near{};
     // And the whole render's structure distance that the shading alone
     // leaves: that stone's (the cross-spectrum of the shading's halves,
     // each with the stone) against the photo's; < 0 as structure_distance.

@@ -164,6 +164,23 @@ Photo shaded_photo(const Photo& photo, const Film& shading, float exposure, doub
 // where the shading or the photo has no object pixel.
 std::array<double, 3> least_material_distance(const Photo& photo, const Film& shading, float exposure);
 
+// The same over the materials whose own histogram of levels lies within
+// `material_d` of `material_photo` (§5.4's D, per channel; a render's
+// measured D_material and the photo's block histogram it was taken
+// against, say): the least whole-render D that a material as like the
+// photo's stone as that one reaches under the shading. A material's level in
+// the model is the one it shows on average over the object (the column's
+// mean level), as the flattened render shows the material scaled to the
+// render's A. A ceiling on a convex distance leaves a convex problem; the
+// value is a certified lower bound by Lagrangian duality
+// (core/simplex_least_squares.h, simplex_least_squares_near). Without the
+// ceiling the least-D material can be nothing like the stone: on the demo's
+// vase red's is 91 % within 16 levels and 9 % some 40 levels brighter
+// (docs/design.md, "Appearance"). −1 as above.
+std::array<double, 3> least_material_distance_as_near(const Photo& photo, const Film& shading, float exposure,
+                                                      const std::array<double, 3>& material_d,
+                                                      const RgbHistogram& material_photo);
+
 // The block for material_spread: the side, in pixels, over which a render of
 // this estimated relative error per pixel averages to 0.1 (at most
 // kMaxMaterialBlock).
