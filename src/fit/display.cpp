@@ -582,10 +582,11 @@ std::array<double, 3> least_distances(const Photo& photo, const Film& shading, f
         std::sort(v.begin(), v.end());
         std::vector<double> target(256);
         for (int l = 0; l < 256; ++l) target[std::size_t(l)] = photo_levels.proportion(c, l);
-        std::vector<double> material_target(256);
-        for (int l = 0; l < 256; ++l) material_target[std::size_t(l)] = material_photo.proportion(c, l);
-        out[std::size_t(c)] = least_channel_distance(v, target, photo_levels.mean(c), material_most[std::size_t(c)],
-                                                     material_target);
+        const double most = material_most[std::size_t(c)];
+        std::vector<double> material_target;
+        if (most >= 0.0)
+            for (int l = 0; l < 256; ++l) material_target.push_back(material_photo.proportion(c, l));
+        out[std::size_t(c)] = least_channel_distance(v, target, photo_levels.mean(c), most, material_target);
     });
     return out;
 }
@@ -599,10 +600,13 @@ std::array<double, 3> least_material_distance(const Photo& photo, const Film& sh
 std::array<double, 3> least_material_distance_as_near(const Photo& photo, const Film& shading, float exposure,
                                                       const std::array<double, 3>& material_d,
                                                       const RgbHistogram& material_photo) {
-    for (double d : material_d)
-        if (!(d >= 0.0)) throw Error("internal: least_material_distance_as_near needs a material D of 0 or more");
-    if (!material_photo.total) throw Error("internal: least_material_distance_as_near needs the photo's histogram");
-    return least_distances(photo, shading, exposure, material_d, material_photo);
+    // Without the photo's histogram or a material D there is nothing to
+    // hold the material near.
+    if (!material_photo.total) return {-1.0, -1.0, -1.0};
+    std::array<double, 3> out = least_distances(photo, shading, exposure, material_d, material_photo);
+    for (int c = 0; c < 3; ++c)
+        if (!(material_d[std::size_t(c)] >= 0.0)) out[std::size_t(c)] = -1.0;
+    return out;
 }
 
 Spectrum photo_mean_linear(const Photo& photo) {

@@ -248,6 +248,10 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
             CHECK(nearer[c] <= 1.5 + 1e-9);
             CHECK(nearer[c] >= near[c] - 1e-3);
         }
+        // A channel whose material D was not measured has no bound.
+        const std::array<double, 3> partial = least_material_distance_as_near(photo, shading, 1.f, {-1.0, 0.05, 0.05}, levels);
+        CHECK(partial[0] == -1.0);
+        CHECK(partial[1] == Approx(near[1]));
     }
     SECTION("half the object unlit: the photo's A out of reach, the nearest A instead") {
         // Unlit pixels stay at level 0 whatever the material, so the brightest

@@ -176,7 +176,8 @@ std::array<double, 3> least_material_distance(const Photo& photo, const Film& sh
 // (core/simplex_least_squares.h, simplex_least_squares_near). Without the
 // ceiling the least-D material can be nothing like the stone: on the demo's
 // vase red's is 91 % within 16 levels and 9 % some 40 levels brighter
-// (docs/design.md, "Appearance"). −1 as above.
+// (docs/design.md, "Appearance"). −1 as above, and in a channel whose
+// material D is negative (not measured).
 std::array<double, 3> least_material_distance_as_near(const Photo& photo, const Film& shading, float exposure,
                                                       const std::array<double, 3>& material_d,
                                                       const RgbHistogram& material_photo);
