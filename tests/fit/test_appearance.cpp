@@ -221,13 +221,14 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
     }
     SECTION("the least D of a material as like the stone as a given one: two lights 10⁴ apart") {
         // The case above: the least whole-render D, 3/8, takes a material
-        // nothing like the one-level stone (its levels, the mean each shows
-        // over the object, near 64 and 191). A material whose own histogram
-        // is within δ of the photo's holds p₁₂₈ ≥ 1 − √δ of its levels
-        // within one of 128, and those light the lit half at 255 and the
-        // dark half near 0, none at 128; the rest puts at most half its
-        // pixels there. So the render's mass at 128 is at most √δ/2, and
-        // D ≥ (1 − √δ/2)².
+        // nothing like the one-level stone: its two multipliers are 10⁴
+        // apart, and flattened (scaled so that the multiplier whose render
+        // alone has A = 128 shows 128) they show levels near 33 and 255. A
+        // material whose own histogram is within δ of the photo's holds
+        // p₁₂₈ ≥ 1 − √δ of its levels within one of 128, multipliers near
+        // that one, which light the lit half at 255 and the dark half near 0,
+        // none at 128; the rest puts at most half its pixels there. So the
+        // render's mass at 128 is at most √δ/2, and D ≥ (1 − √δ/2)².
         const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{128, 128, 128}; });
         const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 1.0 : 1e-4; });
         const std::array<double, 3> free = least_material_distance(photo, shading, 1.f);
