@@ -29,8 +29,8 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
     for (const char* name : {"ks", "contrast", "A_photo", "A_render", "A_sigma", "dA", "D", "S_photo", "S_render",
                              "S_photo_scaled", "S_material", "S_material_noise", "A_final_size"})
         for (const char* c : ch) s += std::string(",") + name + "_" + c;
-    s += ",density_scale,structure,structure_error,orientation_photo,orientation_render,strength_photo,strength_render,shading,"
-         "from_final_size,sharpen\n";
+    s += ",density_scale,structure,structure_error,orientation_photo,orientation_render,strength_photo,"
+         "strength_render,shading,from_final_size,sharpen\n";
     char buf[160];
     for (const FitRecord& r : rows) {
         std::snprintf(buf, sizeof buf, "%d,%.3f,%d", r.iteration, r.seconds, r.spp);
@@ -43,8 +43,8 @@ std::string fit_csv(const std::vector<FitRecord>& rows) {
                 s += buf;
             }
         std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.3g,%.4g,%.4g,%.4g,%.4g,%d,%d,%.6g\n", r.density_scale,
-                      r.structure, r.structure_error, r.orientation_photo, r.orientation_render, r.strength_photo, r.strength_render,
-                      r.shading ? 1 : 0, r.from_final_size ? 1 : 0, r.sharpen);
+                      r.structure, r.structure_error, r.orientation_photo, r.orientation_render, r.strength_photo,
+                      r.strength_render, r.shading ? 1 : 0, r.from_final_size ? 1 : 0, r.sharpen);
         s += buf;
     }
     return s;
@@ -282,7 +282,8 @@ nlohmann::json material_json(const MaterialAppearance& m) {
     return {{"S_material", m.s_material}, {"S_material_noise", m.s_noise}, {"S_photo", m.s_photo},
             {"D", m.d}, {"D_stone_shaded", m.d_stone}, {"D_least_any_material", m.d_least},
             {"D_least_as_near_material", m.d_least_as_near}, {"structure_distance", m.structure},
-            {"structure_distance_error", m.structure_error}, {"structure_distance_stone_shaded", m.structure_stone}, {"spectrum", spectrum_json(m.spectrum)},
+            {"structure_distance_error", m.structure_error},
+            {"structure_distance_stone_shaded", m.structure_stone}, {"spectrum", spectrum_json(m.spectrum)},
             {"block_pixels", m.block}, {"blocks", m.blocks}, {"D_block_pixels", m.d_block},
             {"D_by_block", m.d_by_block}, {"D_noise", m.d_noise}, {"D_photo_spread", m.d_photo_spread}};
 }

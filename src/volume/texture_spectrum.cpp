@@ -304,7 +304,7 @@ Shares redrawn(const TextureSpectrum& s, SplitMix64& rng) {
     for (int b = 0; b < TextureSpectrum::kBands; ++b) {
         if (s.power[b] < 0.0 || !(s.error[b] > 0.0)) continue;
         const double u1 = 1.0 - rng.uniform(), u2 = rng.uniform();
-        const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+        const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPiD * u2);
         out[b] = std::max(0.0, s.power[b] + s.error[b] * z);
     }
     return out;

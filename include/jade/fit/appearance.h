@@ -162,7 +162,9 @@ struct MaterialAppearance {
     // And of the materials as like the photo's stone as this one: their
     // own histogram within `d` (D_material) of the photo's
     // (least_material_distance_as_near). Where it is above the whole
-    // render's goal, only a material less like the stone reaches the goal.
+    // render's goal, only a material less like the stone reaches the goal,
+    // as far as the render is shading × material (on the bunny under the
+    // demo photo the render came 12–19 % under the model's bounds).
     std::array<double, 3> d_least_as_near{};
     // And the whole render's structure distance that the shading alone
     // leaves: that stone's (the cross-spectrum of the shading's halves,
