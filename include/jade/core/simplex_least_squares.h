@@ -42,9 +42,9 @@ SimplexFit simplex_least_squares(const std::vector<std::vector<double>>& columns
                                  double absolute_gap = 1e-6, int max_iterations = 20000);
 
 // A second least-squares distance the mixture must keep under a ceiling:
-// |M·p − g|² ≤ most, M's columns one per mixture component (each as long as
-// `target`). A ceiling on a convex function leaves a convex set, so the
-// problem stays convex.
+// |M·p − g|² ≤ most, M's columns one per mixture component, each as long as
+// this `target` g. A ceiling on a convex function leaves a convex set, so
+// the problem stays convex.
 struct MixtureNear {
     std::vector<std::vector<double>> columns;
     std::vector<double> target;

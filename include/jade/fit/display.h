@@ -176,13 +176,13 @@ std::array<double, 3> least_material_distance(const Photo& photo, const Film& sh
 // model by Lagrangian duality (core/simplex_least_squares.h,
 // simplex_least_squares_near), and like least_material_distance's it bounds
 // a render only as far as the render is shading × material: on the bunny
-// under the demo photo the render's own red D (0.0038) came under both (0.0043
-// for any material, 0.0047 for one as like the stone), its green under the
-// second (0.0012 against 0.0014). Without the
-// ceiling the least-D material can be nothing like the stone: on the demo's
-// vase red's is 91 % within 16 levels and 9 % some 40 levels brighter
-// (docs/design.md, "Appearance"). −1 as above, and in a channel whose
-// material D is negative (not measured).
+// under the demo photo the render's own red D (0.0038) came under both
+// (0.0043 for any material, 0.0047 for one as like the stone), its green
+// under the second (0.0012 against 0.0014). Without the ceiling the least-D
+// material can be nothing like the stone: on the demo's vase red's is 91 %
+// within 16 levels and 9 % some 40 levels brighter (docs/design.md,
+// "Appearance"). −1 as above, and in a channel whose material D is negative
+// (not measured).
 std::array<double, 3> least_material_distance_as_near(const Photo& photo, const Film& shading, float exposure,
                                                       const std::array<double, 3>& material_d,
                                                       const RgbHistogram& material_photo);
