@@ -842,6 +842,11 @@ BenchCommands add_bench_commands(CLI::App& app, jade::VolumeBenchOptions& bench,
     fidelity->add_option("--seeds", fbench.seeds,
                          "Run both methods with noise and render seeds 1..N and give D's ratio over them")
         ->capture_default_str();
+    fidelity->add_option("--densities", fbench.densities,
+                         "Density scales, e.g. 5,20,60,200,600: the default's fitted volume (seed 1) as its mean "
+                         "medium at each, and under its shading the photo's own stone's D and the least any "
+                         "material reaches, over the paper's D (one shading render each)")
+        ->delimiter(',');
     auto* stiff = cmd->add_subcommand(
         "stiff", "Stiff media: the white furnace from sigma_t 1 to 1e5, with and without sphere walks");
     stiff->add_option("--width", sbench.width, "Image width and height")->capture_default_str();

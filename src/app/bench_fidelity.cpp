@@ -178,6 +178,7 @@ PipelineOptions default_method_options(const FidelityBenchOptions& b, int seed) 
     PipelineOptions o = common_options(b, "default", seed);
     o.noise.veins = b.veins;
     o.structure = parse_structure_mode(b.structure);
+    if (seed == 1) o.reach_densities = b.densities;
     return o;
 }
 
@@ -242,12 +243,38 @@ std::string over_seeds_summary(const std::vector<SeedDistances>& seeds) {
     return out;
 }
 
+std::string reach_table(const std::vector<ShadingReach>& reach, const ShadingReach& fitted,
+                        const std::array<double, 3>& d_paper) {
+    // The rows by density, the fitted one among them.
+    std::vector<std::pair<ShadingReach, bool>> rows;
+    for (const ShadingReach& r : reach) rows.push_back({r, false});
+    rows.push_back({fitted, true});
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const auto& a, const auto& b) { return a.first.density_scale < b.first.density_scale; });
+    std::string out =
+        "the goal's reach by translucency: the default's fitted volume as its mean medium (its albedo held) at "
+        "each density scale;\nunder its shading, D / D(paper) per channel R G B (the least above 0.5: no material "
+        "there meets the goal)\n";
+    out += formatted("  %-18s %-25s%-25s%s\n", "density scale", "  the photo's own stone",
+                     "  the least of any material", "seconds");
+    for (const auto& [r, own] : rows) {
+        out += formatted("  %-18s ", formatted("%.1f%s", r.density_scale, own ? " (fitted)" : "").c_str());
+        for (const auto* d : {&r.d_stone, &r.d_least}) {
+            for (int c = 0; c < 3; ++c) out += formatted(" %6.2f", (*d)[c] / d_paper[c]);
+            out += "    ";
+        }
+        out += own ? "the measure's own\n" : formatted("%.1f\n", r.seconds);
+    }
+    return out;
+}
+
 int run_fidelity_benchmark(const FidelityBenchOptions& b) {
     if (b.photo.empty() || b.mesh.empty()) throw Error("bench fidelity needs --photo and --mesh");
     if (b.seeds < 1) throw Error("bench fidelity: --seeds must be at least 1");
     if (b.spp < 1) throw Error("bench fidelity: --spp must be at least 1");
     validate_photo_span(b.photo_span);
     parse_structure_mode(b.structure);  // refused before anything is written
+    validate_reach_densities(b.densities);
     std::error_code ec;
     fs::create_directories(b.out_dir, ec);
     if (ec) fail_file(b.out_dir, "cannot create the output folder: " + ec.message());
@@ -261,6 +288,13 @@ int run_fidelity_benchmark(const FidelityBenchOptions& b) {
         const PipelineResult paper = run_pipeline(paper_method_options(b, seed));
         if (b.seeds > 1) std::printf("\nseed %d:", seed);
         print_table(def, paper);
+        if (!def.reach.empty()) {
+            ShadingReach fitted;
+            fitted.density_scale = def.fit.density_scale;
+            fitted.d_stone = def.material->d_stone;
+            fitted.d_least = def.material->d_least;
+            std::printf("\n%s", reach_table(def.reach, fitted, paper.final_look.d).c_str());
+        }
         std::fflush(stdout);
         distances.push_back({def.final_look.d, paper.final_look.d, def.material->d_stone, def.material->d_least,
                              def.material->d_least_as_near});

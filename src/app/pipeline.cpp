@@ -208,6 +208,32 @@ SplitFilms final_quarters(const PipelineOptions& o, const PreparedScene& prep, c
     return render_quarters(scene, PinholeCamera(prep.camera), settings, nullptr, bar.get());
 }
 
+// The goal's reach at other translucencies (PipelineOptions::reach_densities):
+// the shading at each density scale, its majorant floor the fitted one's
+// scaled with it, so that at the fitted density it is the measure's own
+// shading render, tentative collisions and all.
+std::vector<ShadingReach> reach_by_density(const PipelineOptions& o, const PreparedScene& prep,
+                                           const MaterialVolume& volume, const OpticalParams& mean_medium,
+                                           const Spectrum& fitted_majorant, const Photo& photo, float exposure,
+                                           int spp) {
+    std::vector<ShadingReach> out;
+    for (double density : o.reach_densities) {
+        const Stopwatch clock;
+        OpticalParams optics = mean_medium;
+        optics.density_scale = density;
+        const float scale = float(density / mean_medium.density_scale);
+        const MaterialVolumeMedium shading(volume, volume.cube, optics, fitted_majorant * scale);
+        char label[64];
+        std::snprintf(label, sizeof label, "shading render at density %g", density);
+        const SplitFilms flat = final_quarters(o, prep, shading, spp, label);
+        ShadingReach r = shading_reach(photo, flat.merged(), exposure, render_pixels_per_side(prep.camera, volume.cube));
+        r.density_scale = density;
+        r.seconds = clock.seconds();
+        out.push_back(r);
+    }
+    return out;
+}
+
 // The material against the photo (fit/appearance.h, compare_material): the
 // fitted volume and its shading render (the mean medium under the same
 // majorant: the same tentative collisions), both at the final render's
@@ -225,6 +251,8 @@ MaterialAppearance measure_material(const PipelineOptions& o, const PreparedScen
     MaterialAppearance m =
         compare_material(photo, render, flat, float(res.fit.exposure), render_pixels_per_side(prep.camera, volume.cube));
     res.seconds_measure = clock.seconds();  // the comparison's fits too, not the renders alone
+    // Each row holds its own seconds.
+    res.reach = reach_by_density(o, prep, volume, mean_medium, fitted.majorant(), photo, float(res.fit.exposure), spp);
     return m;
 }
 
@@ -442,10 +470,17 @@ int fit_renders(const PipelineResult& res) {
     return renders;
 }
 
+void validate_reach_densities(const std::vector<double>& densities) {
+    for (double density : densities)
+        if (!(density > 0.0) || !std::isfinite(density))
+            throw Error("--densities must be positive numbers, got " + std::to_string(density));
+}
+
 PipelineResult run_pipeline(const PipelineOptions& o) {
     const Stopwatch total;
     o.noise.validate();
     o.optics.validate();
+    validate_reach_densities(o.reach_densities);
     o.render.settings.validate();
     o.fit.validate();
     PipelineResult res;

@@ -333,6 +333,12 @@ std::string pipeline_report(const PipelineReport& in) {
     if (const auto& b = res.brightness_check) j["brightness_check"] = brightness_check_json(*b);
     j["appearance"] = appearance_json(res.final_look);
     if (res.material) j["appearance"]["material"] = material_json(*res.material);
+    // The goal's reach at other translucencies (PipelineOptions::reach_densities).
+    for (const ShadingReach& r : res.reach)
+        j["appearance"]["reach_by_density"].push_back({{"density_scale", r.density_scale},
+                                                       {"D_stone_shaded", r.d_stone},
+                                                       {"D_least_any_material", r.d_least},
+                                                       {"seconds", r.seconds}});
     j["preview"] = preview_json(res.preview);
     // The final render as a job document: `jaderender render --job report.json` replays it.
     j["job"] = json::parse(job_json(in.replay, in.report_dir));

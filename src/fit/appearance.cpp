@@ -93,6 +93,16 @@ void choose_d_block(MaterialAppearance& m, const Photo& photo, const SplitFilms&
 
 }  // namespace
 
+ShadingReach shading_reach(const Photo& photo, const Film& shading, float exposure, double render_pixels_per_side) {
+    ShadingReach r;
+    const RgbHistogram stone =
+        RgbHistogram::of(shaded_photo(photo, shading, exposure, render_pixels_per_side).foreground_levels());
+    const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
+    for (int c = 0; c < 3; ++c) r.d_stone[c] = stone.total ? histogram_distance(stone, photo_levels, c) : -1.0;
+    r.d_least = least_material_distance(photo, shading, exposure);
+    return r;
+}
+
 MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render, const SplitFilms& shading,
                                     float exposure, double render_pixels_per_side) {
     MaterialAppearance m;
@@ -113,20 +123,18 @@ MaterialAppearance compare_material(const Photo& photo, const SplitFilms& render
     m.structure = structure_distance(m.spectrum, scan_spectrum);
     m.structure_error = structure_distance_error(m.spectrum, scan_spectrum);
     choose_d_block(m, photo, render, shading, exposure, render_pixels_per_side);
-    const RgbHistogram stone = RgbHistogram::of(
-        shaded_photo(photo, shading.merged(), exposure, render_pixels_per_side).foreground_levels());
-    const RgbHistogram photo_levels = RgbHistogram::of(photo.foreground_levels());
+    const ShadingReach reach = shading_reach(photo, shading.merged(), exposure, render_pixels_per_side);
+    m.d_stone = reach.d_stone;
+    m.d_least = reach.d_least;
     m.structure_stone = structure_distance(
         texture_cross_spectrum(photo_luma(shaded_photo(photo, shading.first, exposure, render_pixels_per_side)),
                                photo_luma(shaded_photo(photo, shading.second, exposure, render_pixels_per_side)),
                                render_pixels_per_side),
         scan_spectrum);
-    m.d_least = least_material_distance(photo, shading.merged(), exposure);
     for (int c = 0; c < 3; ++c) {
         m.s_material[c] = spread.s[c];
         m.s_noise[c] = spread.noise[c];
         m.s_photo[c] = scan.spread(c);
-        m.d_stone[c] = stone.total ? histogram_distance(stone, photo_levels, c) : -1.0;
     }
     // Against the photo's blocks that D_material was taken against.
     m.d_least_as_near = least_material_distance_as_near(

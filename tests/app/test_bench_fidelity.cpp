@@ -1,16 +1,22 @@
 // D(default) / D(paper) over seeds (bench fidelity --seeds): the ratio of
 // the mean D's and its standard error, against cases worked by hand and
-// against the scatter of the ratio itself over many draws of seeds.
+// against the scatter of the ratio itself over many draws of seeds; and the
+// goal's reach by density (bench fidelity --densities).
 #include "jade/app/bench.h"
 #include "jade/core/error.h"
 #include "jade/core/random.h"
 
+#include "support/test_util.h"
+
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <vector>
 
 using namespace jade;
+using jade_test::TempDir;
 
 TEST_CASE("ratio over seeds: the ratio of the mean D's, with no error where every seed agrees", "[bench]") {
     // The default at half the paper's D on every seed, however the seeds' D vary.
@@ -145,4 +151,71 @@ TEST_CASE("bench fidelity's two sides: the paper's method as §4–5 give it, th
         CHECK(o->measure_material);
     }
     CHECK(paper.out_dir != def.out_dir);
+}
+
+TEST_CASE("the reach by density: at the volume's own density the material measure's shading, bit for bit",
+          "[bench]") {
+    // The demo photo in the cow, small, the volume's density held (no
+    // fit), its shading rendered at a quarter and at four times that
+    // density and at its own.
+    TempDir dir;
+    PipelineOptions o;
+    o.photo = std::string(JADE_DATA_DIR) + "/photos/ambientcg_Onyx002_512_diff.jpg";
+    o.render.mesh = std::string(JADE_DATA_DIR) + "/meshes/spot-cow.obj";
+    o.out_dir = dir.file("out");
+    o.noise.resolution = 32;
+    o.render.width = o.render.height = 48;
+    o.render.settings.spp = 48;  // a turn of the heroes in each quarter (render/film.h)
+    o.fit.method = FitMethod::None;
+    o.measure_material = true;
+    const double own = o.optics.density_scale;
+    o.reach_densities = {4.0 * own, own, 0.25 * own};
+    const PipelineResult res = run_pipeline(o);
+    REQUIRE(res.material);
+    REQUIRE(res.reach.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) CHECK(res.reach[i].density_scale == o.reach_densities[i]);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c);
+        // The same medium, majorant, samples and seed as the measure's
+        // shading render: the same film, so the same distances.
+        CHECK(res.reach[1].d_stone[c] == res.material->d_stone[c]);
+        CHECK(res.reach[1].d_least[c] == res.material->d_least[c]);
+        // The photo's stone is one material: none reads below the least
+        // (within the bound's 1 % of the best mixture).
+        for (const ShadingReach& r : res.reach) {
+            CHECK(r.d_least[c] >= 0.0);
+            CHECK(r.d_least[c] <= r.d_stone[c] * 1.01 + 1e-5);
+        }
+        // Another density is another shading.
+        CHECK(res.reach[0].d_stone[c] != res.reach[2].d_stone[c]);
+    }
+    // And report.json lists them in order.
+    std::ifstream in(dir.file("out/report.json"));
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const nlohmann::json& reach = j.at("appearance").at("reach_by_density");
+    REQUIRE(reach.size() == 3);
+    CHECK(reach[2].at("density_scale").get<double>() == 0.25 * own);
+    CHECK(reach[1].at("D_least_any_material")[0].get<double>() == res.material->d_least[0]);
+}
+
+TEST_CASE("the reach table: rows by density, the fitted one marked, each over the paper's D", "[bench]") {
+    ShadingReach low, high, fitted;
+    low.density_scale = 10.0, low.d_stone = {0.004, 0.002, 0.001}, low.d_least = {0.002, 0.001, 0.0005};
+    low.seconds = 12.5;
+    high.density_scale = 400.0, high.d_stone = {0.012, 0.006, 0.003}, high.d_least = {0.01, 0.004, 0.002};
+    fitted.density_scale = 80.0, fitted.d_stone = {0.008, 0.004, 0.002}, fitted.d_least = {0.006, 0.002, 0.001};
+    const std::string text = reach_table({high, low}, fitted, {0.008, 0.004, 0.002});
+    const auto at_low = text.find("10.0 "), at_fitted = text.find("80.0 (fitted)"), at_high = text.find("400.0 ");
+    REQUIRE(at_low != std::string::npos);
+    REQUIRE(at_fitted != std::string::npos);
+    REQUIRE(at_high != std::string::npos);
+    CHECK(at_low < at_fitted);
+    CHECK(at_fitted < at_high);
+    const std::string low_row = text.substr(at_low, text.find('\n', at_low) - at_low);
+    CHECK(low_row.find("  0.50   0.50   0.50") != std::string::npos);   // the stone
+    CHECK(low_row.find("  0.25   0.25   0.25") != std::string::npos);   // the least
+    CHECK(low_row.find("12.5") != std::string::npos);
+    const std::string high_row = text.substr(at_high);
+    CHECK(high_row.find("  1.50   1.50   1.50") != std::string::npos);
+    CHECK(high_row.find("  1.25   1.00   1.00") != std::string::npos);
 }

@@ -219,6 +219,20 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
             CHECK(least[c] >= 0.99 * 0.375);
         }
     }
+    SECTION("shading_reach: the stone's D and the least's under one shading, two lights 10⁴ apart") {
+        // The photo's one level under the lit half shows at 255 and under
+        // the dark half near 0, whatever its scale: D = ¼ + ¼ + 1. The least
+        // of any material is the 3/8 above.
+        const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{128, 128, 128}; });
+        const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 1.0 : 1e-4; });
+        const ShadingReach r = shading_reach(photo, shading, 1.f, 2 * kPhoto);
+        for (int c = 0; c < 3; ++c) {
+            INFO("channel " << c);
+            CHECK(r.d_stone[c] == Approx(1.5));
+            CHECK(r.d_least[c] <= 0.375 + 1e-5);
+            CHECK(r.d_least[c] >= 0.99 * 0.375);
+        }
+    }
     SECTION("the least D of a material as like the stone as a given one: two lights 10⁴ apart") {
         // The case above: the least whole-render D, 3/8, takes a material
         // nothing like the one-level stone: its two multipliers are 10⁴

@@ -97,13 +97,19 @@ struct FidelityBenchOptions {
     // its standard error: one seed's pattern against the form's shading moves
     // a whole render's D by up to a factor of two.
     int seeds = 1;
+    // The goal's reach by translucency (docs/design.md, "Appearance"): the
+    // default's fitted volume of seed 1 as its mean medium at each of these
+    // density scales, and under each one's shading the photo's own stone's D
+    // and the least any material reaches, over the paper's method's D
+    // (PipelineOptions::reach_densities; a shading render each). Empty: none.
+    std::vector<double> densities;
 };
 int run_fidelity_benchmark(const FidelityBenchOptions& options);
 
 // The pipeline options of the two methods for noise and render seed `seed`.
 // The default's: the pipeline's own (the structure from the photo, joint
 // matching, the sharpening the fit chooses, the contrast fit), with veins
-// or another structure where asked.
+// or another structure where asked, and on seed 1 the reach at `densities`.
 // The paper's method as §4–5 give it: per-channel histogram matching of
 // unsharpened levels, d_a = 0.1, §5.1's extinction, the fBm with its fixed
 // frequency and amplitude ratio, and k_s stepped by 0.01 (Algorithm 2) with
@@ -135,5 +141,12 @@ struct SeedDistances {
 // for half the paper's D; where the stone itself reads above that, a render
 // as near the photo as the stone misses it by the shading alone.
 std::string over_seeds_summary(const std::vector<SeedDistances>& seeds);
+
+// What `bench fidelity --densities` prints after seed 1's table: per density
+// scale of the default's shading, the photo's own stone's D and the least
+// any material reaches, each over the paper's method's D per channel, with
+// the fitted density's own row (from the default's material measure) marked.
+std::string reach_table(const std::vector<ShadingReach>& reach, const ShadingReach& fitted,
+                        const std::array<double, 3>& d_paper);
 
 }  // namespace jade

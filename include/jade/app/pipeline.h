@@ -54,6 +54,13 @@ struct PipelineOptions {
     // noise taken out (fit/appearance.h, compare_material). Costs about two
     // more final renders.
     bool measure_material = false;
+    // With measure_material, the goal's reach at these density scales too
+    // (bench fidelity --densities; docs/design.md, "Appearance"): the fitted
+    // volume's shading render (its mean medium at the fitted albedo, k_s and
+    // exposure) at each, at the measuring renders' samples and seed, and
+    // under it the photo's own stone's D and the least any material reaches
+    // (fit/appearance.h, shading_reach). Each costs one such render.
+    std::vector<double> reach_densities;
     // After a fit, check A at the final render's size (renders at both sizes
     // with a quarter of its samples, at least 64): where a channel is off by
     // more than the fit's tolerance, its k_s moves before the final render
@@ -128,6 +135,7 @@ struct PipelineResult {
     RenderResult final_render;
     Appearance final_look;            // the final render against the photo (fit/appearance.h)
     std::optional<MaterialAppearance> material;  // with measure_material
+    std::vector<ShadingReach> reach;             // one per PipelineOptions::reach_densities, in order
     GltfPreviewMaterial preview;      // preview.glb's stand-in material (io/gltf_preview.h)
     std::vector<std::string> warnings;
     std::vector<std::string> written;
@@ -136,6 +144,10 @@ struct PipelineResult {
 };
 
 PipelineResult run_pipeline(const PipelineOptions& options);
+
+// Refuses a density scale for PipelineOptions::reach_densities that is not
+// a positive number, as OpticalParams::validate does the volume's.
+void validate_reach_densities(const std::vector<double>& densities);
 
 // The fits `result` ran, in order (one unless a sharper stone was fitted).
 std::vector<FitLeg> fit_legs(const PipelineResult& result);

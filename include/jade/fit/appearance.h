@@ -119,6 +119,22 @@ SpreadReading read_spread(const MaterialSpread& spread, const std::array<double,
 // 1/√spp the count asked for is (noise / limit) times too many at most.
 int spp_for_noise(int spp, double noise, double limit);
 
+// What a shading render (the volume's mean medium: the light and the form
+// alone) leaves of the whole render's D, against the photo as the whole
+// render's D is taken: the photo's own stone laid under it (fit/display.h,
+// shaded_photo; < 0 where no object pixel's footprint falls mostly on the
+// photo's foreground), and the least any material reaches under it
+// (least_material_distance: below the stone's, and a bound on every
+// material whose levels do not follow the light). The shading's density
+// scale is the caller's to record (bench fidelity --densities renders one
+// volume's shading at several, docs/design.md, "Appearance").
+struct ShadingReach {
+    double density_scale = 0.0;
+    std::array<double, 3> d_stone{-1.0, -1.0, -1.0}, d_least{-1.0, -1.0, -1.0};
+    double seconds = 0.0;  // the shading render's and both distances' (the caller's to record)
+};
+ShadingReach shading_reach(const Photo& photo, const Film& shading, float exposure, double render_pixels_per_side);
+
 // The material against the photo with the render's shading divided out
 // (fit/display.h, flat_render): a flat scan of a stone has no
 // shading, a lit object does, and A, S and D of the whole render measure
@@ -150,15 +166,10 @@ struct MaterialAppearance {
     // not that quiet: d_block is then kMaxBlock).
     std::array<double, 3> d_noise{}, d_photo_spread{};
     std::array<double, 3> s_noise{};  // the noise's share taken out of S_material, levels
-    // The whole render's D that the shading alone leaves: D of the photo's
-    // own stone under the shading render (fit/display.h, shaded_photo)
-    // against the photo, as the whole render's D is taken; < 0 where no
-    // object pixel's footprint falls mostly on the photo's foreground.
-    std::array<double, 3> d_stone{};
-    // The least whole-render D that any material reaches under that
-    // shading (fit/display.h, least_material_distance): below the stone's,
-    // and a bound on every material whose levels do not follow the light.
-    std::array<double, 3> d_least{};
+    // The whole render's D that the shading alone leaves (shading_reach):
+    // the photo's own stone's under the shading render, and the least any
+    // material reaches there.
+    std::array<double, 3> d_stone{}, d_least{};
     // And of the materials as like the photo's stone as this one: their
     // own histogram within `d` (D_material) of the photo's
     // (least_material_distance_as_near). Where it is above the whole
