@@ -1270,8 +1270,9 @@ TEST_CASE("pipeline: report.json replays the final render, and the .vdb carries 
     CHECK_THAT(guide.err, Catch::Contains("light_guide"));
 }
 
-TEST_CASE("bench fidelity --seeds, --spp and --photo-span: refused at 0 before anything is written", "[cli][fit]") {
-    for (const char* option : {"--seeds", "--spp", "--photo-span"}) {
+TEST_CASE("bench fidelity --seeds, --spp, --photo-span and --densities: refused at 0 before anything is written",
+          "[cli][fit]") {
+    for (const char* option : {"--seeds", "--spp", "--photo-span", "--densities"}) {
         TempDir dir;
         require_clean_failure(dir, "bench fidelity --photo " + std::string(JADE_DATA_DIR) +
                                        "/photos/ambientcg_Onyx002_512_diff.jpg --mesh " + kCow + " " + option +
@@ -1295,6 +1296,11 @@ TEST_CASE("bench fidelity --structure: the default's structure, and an unknown o
     CHECK(jade::paper_method_options(b, 1).structure == jade::StructureMode::Fbm);
     b.structure = "photo";
     CHECK(jade::default_method_options(b, 1).structure == jade::StructureMode::Photo);
+    // The reach by density is seed 1's default's alone.
+    b.densities = {20.0, 200.0};
+    CHECK(jade::default_method_options(b, 1).reach_densities == b.densities);
+    CHECK(jade::default_method_options(b, 2).reach_densities.empty());
+    CHECK(jade::paper_method_options(b, 1).reach_densities.empty());
 }
 
 TEST_CASE("split render: pieces from --samples and --pixels merge into the single render's pixels", "[cli][render]") {
