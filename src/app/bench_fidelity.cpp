@@ -255,16 +255,16 @@ std::string reach_table(const std::vector<ShadingReach>& reach, const ShadingRea
         "the goal's reach by translucency: the default's fitted volume as its mean medium (its albedo held) at "
         "each density scale;\nunder its shading, D / D(paper) per channel R G B (the least above 0.5: no material "
         "there meets the goal)\n";
-    out += formatted("  %-18s %-25s%-25s%s\n", "density scale", "  the photo's own stone",
-                     "  the least of any material", "seconds");
-    for (const auto& [r, own] : rows) {
-        out += formatted("  %-18s ", formatted("%.1f%s", r.density_scale, own ? " (fitted)" : "").c_str());
-        for (const auto* d : {&r.d_stone, &r.d_least}) {
-            for (int c = 0; c < 3; ++c) out += formatted(" %6.2f", (*d)[c] / d_paper[c]);
-            out += "    ";
-        }
-        out += own ? "the measure's own\n" : formatted("%.1f\n", r.seconds);
-    }
+    out += formatted("  %-18s    %-28s%-28s%s\n", "density scale", "the photo's own stone",
+                     "the least of any material", "seconds");
+    auto over_paper = [&](const std::array<double, 3>& d) {
+        return formatted(" %6.2f %6.2f %6.2f", d[0] / d_paper[0], d[1] / d_paper[1], d[2] / d_paper[2]);
+    };
+    for (const auto& [r, own] : rows)
+        out += formatted("  %-18s %s       %s          %s\n",
+                         formatted("%.1f%s", r.density_scale, own ? " (fitted)" : "").c_str(),
+                         over_paper(r.d_stone).c_str(), over_paper(r.d_least).c_str(),
+                         own ? "the measure's own" : formatted("%.1f", r.seconds).c_str());
     return out;
 }
 
