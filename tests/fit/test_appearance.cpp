@@ -220,9 +220,9 @@ TEST_CASE("the photo's stone under a shading: the photo back under even light, t
         }
     }
     SECTION("shading_reach: the stone's D and the least's under one shading, two lights 10⁴ apart") {
-        // The photo's one level under the lit half shows at 255 and under
-        // the dark half near 0, whatever its scale: D = ¼ + ¼ + 1. The least
-        // of any material is the 3/8 above.
+        // The photo's one level, scaled to the photo's A (as near as it
+        // goes), shows at 255 under the lit half and near 0 under the dark
+        // half: D = ¼ + ¼ + 1. The least of any material is the 3/8 above.
         const Photo photo = photo_of(kPhoto, [](int, int) { return Rgb8{128, 128, 128}; });
         const Film shading = shading_film(2 * kPhoto, [](int x, int) { return x < kPhoto ? 1.0 : 1e-4; });
         const ShadingReach r = shading_reach(photo, shading, 1.f, 2 * kPhoto);
